@@ -1,0 +1,188 @@
+"""Command line for batch deformation outside Blender.
+
+    python3 -m edgedeform deform MESH --constraints C.json --out OUT.obj
+        [--domain edge|primal] [--stiffness 0.5 | --stiffness-file lam.txt]
+        [--iterations N] [--tolerance T]
+
+C.json: {"handles": [...], "static": [...], "roi": null or [...],
+         "handle_targets": [[x, y, z], ...]}   (targets in the order of handles)
+
+On success: writes OUT (same vertex order as MESH) and prints one line of JSON.
+On bad input: one message on stderr, exit status 1, no output file, no traceback.
+"""
+
+import argparse
+import json
+import math
+import sys
+import time
+
+import numpy as np
+
+from . import mesh_io
+
+EXIT_BAD_INPUT = 1
+
+
+class InputError(ValueError):
+    """Bad command-line input; the message is shown to the user as is."""
+
+
+def _parser():
+    p = argparse.ArgumentParser(
+        prog="python3 -m edgedeform",
+        description="Edge-based graph mesh deformation (batch).")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+    d = sub.add_parser("deform", help="deform a mesh with handle/static constraints")
+    d.add_argument("mesh", metavar="MESH", help="input mesh (.obj, .off, .ply)")
+    d.add_argument("--constraints", required=True, metavar="C.json",
+                   help='{"handles", "static", "roi", "handle_targets"}')
+    d.add_argument("--out", required=True, metavar="OUT", help="output mesh (.obj, .off, .ply)")
+    d.add_argument("--domain", choices=("edge", "primal"), default="edge")
+    lam = d.add_mutually_exclusive_group()
+    lam.add_argument("--stiffness", type=float, default=None, metavar="LAMBDA",
+                     help="global stiffness in [0,1] (default 0.5)")
+    lam.add_argument("--stiffness-file", default=None, metavar="FILE",
+                     help="one stiffness value per vertex, whitespace separated")
+    d.add_argument("--iterations", type=int, default=10, metavar="N",
+                   help="maximum local/global iterations (default 10)")
+    d.add_argument("--tolerance", type=float, default=1e-4, metavar="T",
+                   help="relative energy change to stop at (default 1e-4)")
+    return p
+
+
+def _index_list(data, key, n, required):
+    value = data.get(key)
+    if value is None:
+        if required:
+            raise InputError(f"constraints: '{key}' is missing")
+        return None
+    if not isinstance(value, list):
+        raise InputError(f"constraints: '{key}' must be a list of vertex indices")
+    for v in value:
+        # bool is an int in Python; a true/false index is a mistake, not vertex 1/0
+        if isinstance(v, bool) or not isinstance(v, int):
+            raise InputError(f"constraints: '{key}' must hold integers, found {v!r}")
+        if v < 0 or v >= n:
+            raise InputError(f"constraints: '{key}' index {v} out of range [0, {n})")
+    return np.asarray(value, dtype=np.int64).reshape(-1)
+
+
+def load_constraints(path, n):
+    """Parse and check C.json against a mesh of n vertices."""
+    try:
+        with open(path, "r", encoding="utf-8") as fh:
+            data = json.load(fh)
+    except FileNotFoundError:
+        raise InputError(f"constraints: {path}: no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"constraints: {path}: {exc}") from None
+    except json.JSONDecodeError as exc:
+        raise InputError(f"constraints: {path}: invalid JSON ({exc})") from None
+    if not isinstance(data, dict):
+        raise InputError("constraints: top level must be a JSON object")
+    unknown = set(data) - {"handles", "static", "roi", "handle_targets"}
+    if unknown:
+        raise InputError(f"constraints: unknown key(s) {sorted(unknown)}")
+    handles = _index_list(data, "handles", n, required=True)
+    if handles.size == 0:
+        raise InputError("constraints: 'handles' is empty")
+    static = _index_list(data, "static", n, required=False)
+    static = np.zeros(0, dtype=np.int64) if static is None else static
+    roi = _index_list(data, "roi", n, required=False)
+    targets = data.get("handle_targets")
+    if targets is None:
+        raise InputError("constraints: 'handle_targets' is missing")
+    try:
+        T = np.array(targets, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError("constraints: 'handle_targets' must be a list of [x, y, z]") from None
+    if T.ndim != 2 or T.shape[1] != 3:
+        raise InputError(f"constraints: 'handle_targets' must be a list of [x, y, z], "
+                         f"got shape {T.shape}")
+    if len(T) != len(handles):
+        raise InputError(f"constraints: {len(T)} handle_targets for {len(handles)} handles")
+    if not np.all(np.isfinite(T)):
+        raise InputError("constraints: 'handle_targets' contains NaN or inf")
+    overlap = np.intersect1d(handles, static)
+    if overlap.size:
+        raise InputError(f"constraints: vertices {overlap[:5].tolist()} are both handle and static")
+    return handles, static, roi, T
+
+
+def load_stiffness(args, n):
+    if args.stiffness_file is not None:
+        try:
+            lam = np.loadtxt(args.stiffness_file, dtype=np.float64, ndmin=1).reshape(-1)
+        except (OSError, ValueError) as exc:
+            raise InputError(f"stiffness file: {args.stiffness_file}: {exc}") from None
+        if lam.shape != (n,):
+            raise InputError(f"stiffness file: {lam.size} values for {n} vertices")
+    else:
+        lam = 0.5 if args.stiffness is None else float(args.stiffness)
+    arr = np.atleast_1d(lam)
+    if not np.all(np.isfinite(arr)) or arr.min() < 0.0 or arr.max() > 1.0:
+        raise InputError("stiffness must lie in [0, 1] (and be finite)")
+    return lam
+
+
+def deform(args):
+    import edgedeform as ed  # the compiled core; imported late so --help stays fast
+
+    if args.iterations < 1:
+        raise InputError("--iterations must be at least 1")
+    if not math.isfinite(args.tolerance) or args.tolerance < 0:
+        raise InputError("--tolerance must be a finite number >= 0")
+    mesh_io._ext(args.out)  # fail before any work if OUT has an unknown extension
+    V, F = mesh_io.read_mesh(args.mesh)
+    handles, static, roi, targets = load_constraints(args.constraints, len(V))
+    lam = load_stiffness(args, len(V))
+
+    d = ed.Deformer(V, F, domain=args.domain)
+    d.set_constraints(handles=handles, static=static, roi=roi)
+    d.set_stiffness(lam)
+    t0 = time.perf_counter()
+    r = d.solve(targets, max_iterations=args.iterations, tolerance=args.tolerance)
+    wall_ms = (time.perf_counter() - t0) * 1e3
+    X = np.asarray(r.positions)
+    if not np.all(np.isfinite(X)):
+        raise InputError("the solve produced non-finite positions; nothing written")
+    mesh_io.write_mesh(args.out, X, F)
+
+    its = int(r.iterations)
+    loop_ms = float(r.local_ms + r.rhs_ms + r.solve_ms)
+    report = {
+        "vertices": int(d.n_vertices),
+        "nodes": int(d.n_nodes),
+        "domain": d.domain,
+        "factor_ms": round(float(r.factor_ms), 3),
+        "iterations": its,
+        "ms_per_iteration": round(loop_ms / its, 3) if its else 0.0,
+        "energies": [float(e) for e in r.energies],
+        "converged": bool(r.converged),
+        "free_vertices": int(r.free_vertices),
+        "solve_ms": round(wall_ms, 3),
+        "warnings": list(r.warnings),
+    }
+    return report
+
+
+def main(argv=None):
+    args = _parser().parse_args(argv)  # usage errors: argparse prints and exits 2
+    try:
+        report = deform(args)
+    except KeyboardInterrupt:
+        print("edgedeform: interrupted", file=sys.stderr)
+        return 130
+    except (InputError, ValueError, IndexError, OSError, RuntimeError) as exc:
+        # Core errors (ValueError/IndexError/FactorizationError) name the problem already.
+        print(f"edgedeform: error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except Exception as exc:  # anything else still must not dump a traceback on users
+        print(f"edgedeform: internal error: {type(exc).__name__}: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    for w in report["warnings"]:
+        print(f"edgedeform: warning: {w}", file=sys.stderr)
+    print(json.dumps(report, separators=(",", ":")))
+    return 0
