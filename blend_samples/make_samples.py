@@ -1,0 +1,119 @@
+"""Build the sample .blend scenes from scenes.json (run inside Blender).
+
+    blender -b --factory-startup --python-exit-code 1 --python blend_samples/make_samples.py \
+        -- [--out DIR] [--only NAME ...]
+
+Each scene: the mesh (normalised, vertex order as in the file), one vertex group per handle
+("handle_<name>"), "static", "stiffness" (weight = painted λ on every vertex), an Empty
+controller per handle already moved to the edit (its rest transform recorded on the handle),
+the `ob.edge_deform` settings, a camera and Workbench lighting. Settings need the add-on's
+properties: it is enabled if installed, else registered from the source tree (addon/).
+"""
+import argparse
+import os
+import sys
+
+import bpy
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(HERE)
+sys.path[:0] = [HERE, os.path.join(REPO, "demo")]
+import regions  # noqa: E402
+import render   # noqa: E402
+
+
+def enable_addon():
+    """Make `Object.edge_deform` exist; return how (for the log) or None."""
+    if hasattr(bpy.types.Object, "edge_deform"):
+        return "already registered"
+    import addon_utils
+    try:
+        if addon_utils.enable("edge_deform", default_set=True) is not None:
+            return "installed add-on"
+    except Exception:                    # not installed: fall back to the source tree
+        pass
+    src = os.path.join(REPO, "addon")
+    if os.path.exists(os.path.join(src, "edge_deform", "__init__.py")):
+        sys.path.insert(0, src)
+        import edge_deform
+        edge_deform.register()
+        return "source tree " + src
+    return None
+
+
+def add_group(ob, name, index, weight=1.0):
+    g = ob.vertex_groups.new(name=name)
+    if len(index):
+        g.add(np.asarray(index).tolist(), weight, "REPLACE")
+    return g
+
+
+def add_stiffness_group(ob, lam):
+    """Every vertex in the group (the add-on reads vertices outside it as λ = 0)."""
+    g = ob.vertex_groups.new(name="stiffness")
+    for value in np.unique(lam):         # a handful of bulk calls, one per painted value
+        g.add(np.flatnonzero(lam == value).tolist(), float(value), "REPLACE")
+    return g
+
+
+def build_scene(scene):
+    from mathutils import Matrix
+    sc = render.reset_scene(scene["name"])
+    V, F = regions.scene_mesh(scene)
+    setup = regions.scene_setup(scene, V)
+    colours = render.vertex_colours(len(V), setup["handle_index"], setup["static"],
+                                    setup["stiffness"])
+    ob = render.new_mesh_object(scene["name"], V, F, colours)
+    bpy.context.view_layer.objects.active = ob
+    ob.select_set(True)
+    add_group(ob, "static", setup["static"])
+    add_stiffness_group(ob, setup["stiffness"])
+
+    have_settings = hasattr(ob, "edge_deform")
+    if have_settings:
+        s = ob.edge_deform
+        s.static_group, s.stiffness_group = "static", "stiffness"
+        s.stiffness, s.domain = 0.5, "EDGE"
+        s.iterations, s.tolerance = 200, 1e-4
+        s.output = "SHAPE_KEY"
+    for h in setup["handles"]:
+        add_group(ob, "handle_" + h["name"], h["index"])
+        ctrl = bpy.data.objects.new("ctrl_" + h["name"], None)
+        ctrl.empty_display_type, ctrl.empty_display_size = "SPHERE", 0.06
+        sc.collection.objects.link(ctrl)
+        rest = np.eye(4)
+        rest[:3, 3] = h["pivot"]
+        if have_settings:
+            item = s.handles.add()
+            item.vertex_group, item.controller = "handle_" + h["name"], ctrl
+            item.rest_matrix = Matrix(rest.tolist())
+        ctrl["rest_matrix"] = rest.ravel().tolist()   # also readable without the add-on
+        ctrl.matrix_world = Matrix(h["matrix"].tolist())  # already moved to the edit
+
+    render.setup_render(sc, 640, 480)
+    render.add_camera(sc, np.vstack([V, setup["targets"]]), *scene["view"], aspect=640 / 480)
+    sc["edge_deform_title"] = scene["title"]
+    return ob, have_settings
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--out", default=HERE, help="folder for the .blend files")
+    ap.add_argument("--only", nargs="*", help="scene names (default: all)")
+    args = ap.parse_args(argv)
+    os.makedirs(args.out, exist_ok=True)
+    print("make_samples: add-on settings from", enable_addon() or "nowhere (add-on missing)")
+    for scene in regions.load_scenes():
+        if args.only and scene["name"] not in args.only:
+            continue
+        ob, have_settings = build_scene(scene)
+        path = os.path.join(args.out, scene["name"] + ".blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
+        print("make_samples: wrote %s (%d vertices%s)" % (
+            path, len(ob.data.vertices),
+            "" if have_settings else "; add-on missing: no ob.edge_deform settings"))
+
+
+if __name__ == "__main__":
+    main(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
