@@ -1,0 +1,35 @@
+"""Edge Deform: edge-based graph mesh deformation (register only; see the modules)."""
+
+bl_info = {
+    "name": "Edge Deform",
+    "author": "edgedeform contributors",
+    "version": (0, 1, 0),
+    "blender": (3, 4, 0),
+    "location": "View3D > Sidebar > Edge Deform",
+    "description": "Deform meshes with handles and painted stiffness "
+                   "(Triangular Mesh Deformation via Edge-Based Graph)",
+    "category": "Mesh",
+}
+
+import bpy
+
+from . import (operators_bake, operators_bind, operators_grab, operators_groups,
+               operators_live, properties, session, ui)
+
+_register, _unregister = bpy.utils.register_classes_factory(
+    properties.CLASSES + operators_groups.CLASSES + operators_bind.CLASSES
+    + operators_live.CLASSES + operators_grab.CLASSES + operators_bake.CLASSES
+    + ui.CLASSES)
+
+
+def register():
+    _register()
+    properties.register_props()
+    operators_bake.register_handlers()
+
+
+def unregister():
+    operators_bake.unregister_handlers()
+    properties.unregister_props()
+    _unregister()
+    session.clear()

@@ -1,0 +1,190 @@
+"""Operators that turn a vertex selection into handle, static, region and stiffness groups.
+
+Selections come from any tool (box, lasso, circle, select linked, ...): the operators only
+read the selection state, in Edit Mode or from Weight Paint's vertex mask.
+"""
+
+import bpy
+import numpy as np
+from bpy.props import EnumProperty, FloatProperty, StringProperty
+from mathutils import Matrix, Vector
+
+from . import mesh_io
+from .op_common import object_mode, poll_mesh
+
+PRESETS = {'SOFT': 0.0, 'MEDIUM': 0.5, 'RIGID': 1.0}
+STATIC_DEFAULT = "EdgeDeform_Static"
+ROI_DEFAULT = "EdgeDeform_Region"
+STIFFNESS_DEFAULT = "EdgeDeform_Stiffness"
+
+
+def _selected(op, ob):
+    idx = np.flatnonzero(mesh_io.read_selection(ob))
+    if idx.size == 0:
+        op.report({'ERROR'}, "No vertices selected")
+    return idx
+
+
+class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
+    """Make the selected vertices a new handle, moved by a new Empty at their centroid"""
+    bl_idname = "edge_deform.add_handle"
+    bl_label = "Add Handle"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    name: StringProperty(name="Name", default="Handle")
+
+    @classmethod
+    def poll(cls, context):
+        return poll_mesh(cls, context, ('EDIT',))
+
+    def execute(self, context):
+        ob = context.active_object
+        idx = _selected(self, ob)
+        if idx.size == 0:
+            return {'CANCELLED'}
+        s = ob.edge_deform
+        X = mesh_io.read_positions(ob.data)
+        centroid = ob.matrix_world @ Vector(X[idx].mean(axis=0))
+        size = float(np.ptp(X, axis=0).max()) * 0.08 or 0.1
+        with object_mode(ob):
+            # A vertex follows one handle: take the selection out of the other groups.
+            for other in [h.vertex_group for h in s.handles] + [s.static_group]:
+                if other and other in ob.vertex_groups:
+                    ob.vertex_groups[other].remove(idx.tolist())
+            vg = mesh_io.assign_group(ob, self.name or "Handle", idx)
+            empty = bpy.data.objects.new(vg.name + "_Controller", None)
+            empty.empty_display_type = 'SPHERE'
+            empty.empty_display_size = size
+            empty.matrix_world = Matrix.Translation(centroid)
+            (ob.users_collection[0] if ob.users_collection
+             else context.scene.collection).objects.link(empty)
+            item = s.handles.add()
+            item.vertex_group = vg.name
+            item.controller = empty
+            item.rest_matrix = Matrix.Translation(centroid)
+            s.active_handle = len(s.handles) - 1
+        self.report({'INFO'}, "Handle '%s': %d vertices, controller '%s'"
+                    % (vg.name, idx.size, empty.name))
+        return {'FINISHED'}
+
+
+class EDGE_DEFORM_OT_remove_handle(bpy.types.Operator):
+    """Remove the active handle (its vertex group and controller are kept)"""
+    bl_idname = "edge_deform.remove_handle"
+    bl_label = "Remove Handle"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        return poll_mesh(cls, context, need_handles=True)
+
+    def execute(self, context):
+        s = context.active_object.edge_deform
+        s.handles.remove(min(s.active_handle, len(s.handles) - 1))
+        s.active_handle = max(0, min(s.active_handle, len(s.handles) - 1))
+        return {'FINISHED'}
+
+
+class _SetGroup:
+    bl_options = {'REGISTER', 'UNDO'}
+    field = ""
+    default = ""
+
+    @classmethod
+    def poll(cls, context):
+        return poll_mesh(cls, context, ('EDIT',))
+
+    def execute(self, context):
+        ob = context.active_object
+        idx = _selected(self, ob)
+        if idx.size == 0:
+            return {'CANCELLED'}
+        name = getattr(ob.edge_deform, self.field) or self.default
+        with object_mode(ob):
+            vg = mesh_io.assign_group(ob, name, idx, 1.0, replace_all=True)
+        setattr(ob.edge_deform, self.field, vg.name)
+        self.report({'INFO'}, "%s group '%s': %d vertices" % (self.bl_label.split()[-1],
+                                                                 vg.name, idx.size))
+        return {'FINISHED'}
+
+
+class EDGE_DEFORM_OT_set_static(_SetGroup, bpy.types.Operator):
+    """The selected vertices become the static group: they never move"""
+    bl_idname = "edge_deform.set_static"
+    bl_label = "Set Static"
+    field, default = "static_group", STATIC_DEFAULT
+
+
+class EDGE_DEFORM_OT_set_roi(_SetGroup, bpy.types.Operator):
+    """The selected vertices become the region of interest: only they may move"""
+    bl_idname = "edge_deform.set_roi"
+    bl_label = "Set Region"
+    field, default = "roi_group", ROI_DEFAULT
+
+
+def ensure_stiffness_group(ob):
+    """The stiffness group, created filled with the global λ so unpainted areas keep it."""
+    s = ob.edge_deform
+    name = s.stiffness_group or STIFFNESS_DEFAULT
+    if name not in ob.vertex_groups:
+        with object_mode(ob):
+            vg = mesh_io.assign_group(ob, name, np.arange(len(ob.data.vertices)),
+                                      s.stiffness)
+        name = vg.name
+    s.stiffness_group = name
+    return ob.vertex_groups[name]
+
+
+class EDGE_DEFORM_OT_assign_stiffness(bpy.types.Operator):
+    """Give the selected vertices a stiffness λ in the stiffness group"""
+    bl_idname = "edge_deform.assign_stiffness"
+    bl_label = "Assign Stiffness"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    preset: EnumProperty(
+        name="Preset", default='VALUE',
+        items=[('VALUE', "Value", "Use the value below"),
+               ('SOFT', "Soft", "λ = 0: smooth, Laplacian only"),
+               ('MEDIUM', "Medium", "λ = 0.5"),
+               ('RIGID', "Rigid", "λ = 1: keeps edge lengths")])
+    value: FloatProperty(name="λ", default=1.0, min=0.0, max=1.0)
+
+    @classmethod
+    def poll(cls, context):
+        return poll_mesh(cls, context, ('EDIT', 'WEIGHT_PAINT'))
+
+    def execute(self, context):
+        ob = context.active_object
+        idx = _selected(self, ob)
+        if idx.size == 0:
+            return {'CANCELLED'}
+        lam = PRESETS.get(self.preset, self.value)
+        vg = ensure_stiffness_group(ob)
+        with object_mode(ob):
+            mesh_io.assign_group(ob, vg.name, idx, lam)
+        self.report({'INFO'}, "λ = %.2f on %d vertices (group '%s')" % (lam, idx.size, vg.name))
+        return {'FINISHED'}
+
+
+class EDGE_DEFORM_OT_paint_stiffness(bpy.types.Operator):
+    """Weight Paint the stiffness group (weight = λ: 1 rigid, 0 smooth)"""
+    bl_idname = "edge_deform.paint_stiffness"
+    bl_label = "Paint Stiffness"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        return poll_mesh(cls, context)
+
+    def execute(self, context):
+        ob = context.active_object
+        vg = ensure_stiffness_group(ob)
+        ob.vertex_groups.active_index = vg.index
+        if ob.mode != 'WEIGHT_PAINT':
+            bpy.ops.object.mode_set(mode='WEIGHT_PAINT')
+        return {'FINISHED'}
+
+
+CLASSES = (EDGE_DEFORM_OT_add_handle, EDGE_DEFORM_OT_remove_handle,
+           EDGE_DEFORM_OT_set_static, EDGE_DEFORM_OT_set_roi,
+           EDGE_DEFORM_OT_assign_stiffness, EDGE_DEFORM_OT_paint_stiffness)

@@ -1,0 +1,67 @@
+"""Settings stored on the object (`ob.edge_deform`): the scripting contract of issue 3."""
+
+import bpy
+from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
+                       FloatVectorProperty, IntProperty, PointerProperty, StringProperty)
+
+IDENTITY = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0),
+            (0.0, 0.0, 1.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+
+
+class EdgeDeformHandle(bpy.types.PropertyGroup):
+    vertex_group: StringProperty(
+        name="Vertex Group", description="Vertices moved by this handle")
+    controller: PointerProperty(
+        name="Controller", type=bpy.types.Object,
+        description="Object whose motion since its rest transform moves the handle")
+    # World matrix of the controller when the handle was added or the object bound;
+    # the handle target is controller.matrix_world @ rest_inverse applied to rest positions.
+    rest_matrix: FloatVectorProperty(
+        name="Rest Matrix", size=(4, 4), subtype='MATRIX', default=IDENTITY,
+        options={'HIDDEN'})
+
+
+class EdgeDeformSettings(bpy.types.PropertyGroup):
+    handles: CollectionProperty(type=EdgeDeformHandle)
+    active_handle: IntProperty(name="Active Handle", default=0, min=0)
+    static_group: StringProperty(
+        name="Static", description="Vertex group that never moves (empty: none)")
+    roi_group: StringProperty(
+        name="Region", description="Only these vertices may move (empty: whole mesh)")
+    stiffness_group: StringProperty(
+        name="Stiffness Group",
+        description="Vertex group whose weight is λ per vertex (empty: use the global λ). "
+                    "Vertices outside the group have λ = 0")
+    stiffness: FloatProperty(
+        name="Stiffness λ", default=0.5, min=0.0, max=1.0,
+        description="Global λ: 1 = rigid (edge lengths kept), 0 = smooth (Laplacian)")
+    domain: EnumProperty(
+        name="Domain", default='EDGE',
+        items=[('EDGE', "Edge Graph", "Nodes are edge midpoints (the paper's method)"),
+               ('PRIMAL', "Primal", "Nodes are vertices (classic ARAP-like graph)")])
+    iterations: IntProperty(
+        name="Iterations", default=4, min=1, max=1000,
+        description="Local/global iterations per update")
+    tolerance: FloatProperty(
+        name="Tolerance", default=1e-4, min=0.0, max=1.0, precision=6,
+        description="Stop when the relative energy change is below this")
+    output: EnumProperty(
+        name="Output", default='SHAPE_KEY',
+        items=[('SHAPE_KEY', "Shape Key", "Write into the shape key 'EdgeDeform'; "
+                "the base mesh stays untouched"),
+               ('MESH', "Mesh", "Write into the base mesh")])
+    shape_key_name: StringProperty(name="Shape Key", default="EdgeDeform")
+    animate: BoolProperty(
+        name="Deform on Frame Change", default=False,
+        description="Re-solve on every frame change (animated controllers)")
+
+
+CLASSES = (EdgeDeformHandle, EdgeDeformSettings)
+
+
+def register_props():
+    bpy.types.Object.edge_deform = PointerProperty(type=EdgeDeformSettings)
+
+
+def unregister_props():
+    del bpy.types.Object.edge_deform

@@ -1,0 +1,174 @@
+"""Shared setup for the Blender tests: paths, the add-on, real meshes, a tiny runner.
+
+Environment (set by tests/blender/CMakeLists.txt):
+  EDGEDEFORM_PYTHONPATH  folder holding the built `edgedeform` package (build/python)
+  EDGEDEFORM_ADDON_DIR   folder holding the `edge_deform` add-on package (addon/)
+  EDGEDEFORM_TEST_DATA   tests/data
+  EDGEDEFORM_TEST_OUT    a writable folder under the build tree (screenshots)
+"""
+
+import os
+import sys
+import traceback
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+for var, default in (("EDGEDEFORM_PYTHONPATH", os.path.join(ROOT, "build", "python")),
+                     ("EDGEDEFORM_ADDON_DIR", os.path.join(ROOT, "addon"))):
+    path = os.environ.get(var, default)
+    if path not in sys.path:
+        sys.path.insert(0, path)
+DATA = os.environ.get("EDGEDEFORM_TEST_DATA", os.path.join(ROOT, "tests", "data"))
+OUT = os.environ.get("EDGEDEFORM_TEST_OUT", os.path.join(ROOT, "build", "tests", "blender"))
+
+import bpy  # noqa: E402
+import numpy as np  # noqa: E402
+from mathutils import Matrix, Vector  # noqa: E402
+
+import edgedeform as ed  # noqa: E402
+import edge_deform  # noqa: E402
+from edge_deform import session  # noqa: E402
+
+
+def register():
+    if not hasattr(bpy.types.Object, "edge_deform"):
+        edge_deform.register()
+
+
+# ------------------------------------------------------------------ meshes
+
+def read_off(path):
+    """OFF/COFF/NOFF: vertex lines may carry colours or normals after x y z."""
+    with open(path) as f:
+        lines = [ln.split("#")[0].split() for ln in f]
+    lines = [ln for ln in lines if ln]
+    assert lines[0][0].endswith("OFF"), path
+    head = lines[0][1:] or lines[1]
+    start = 1 if lines[0][1:] else 2
+    nv, nf = int(head[0]), int(head[1])
+    V = np.array([ln[:3] for ln in lines[start:start + nv]], float)
+    faces = [[int(x) for x in ln[1:1 + int(ln[0])]] for ln in lines[start + nv:start + nv + nf]]
+    return V, np.array(faces, np.int64)
+
+
+def read_obj(path):
+    V, F = [], []
+    with open(path) as f:
+        for line in f:
+            parts = line.split()
+            if not parts:
+                continue
+            if parts[0] == "v":
+                V.append([float(x) for x in parts[1:4]])
+            elif parts[0] == "f":
+                F.append([int(p.split("/")[0]) - 1 for p in parts[1:]])
+    return np.array(V, float), np.array(F, np.int64)
+
+
+def load(name):
+    path = os.path.join(DATA, name)
+    return read_off(path) if name.endswith(".off") else read_obj(path)
+
+
+def make_object(name, V, faces):
+    """A mesh object from vertex and face arrays (faces: list of index lists)."""
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(np.asarray(V).tolist(), [], [list(map(int, f)) for f in faces])
+    mesh.update()
+    ob = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(ob)
+    activate(ob)
+    return ob
+
+
+def activate(ob):
+    for other in bpy.context.view_layer.objects:
+        other.select_set(False)
+    bpy.context.view_layer.objects.active = ob
+    ob.select_set(True)
+
+
+def add_group(ob, name, idx, weight=1.0):
+    vg = ob.vertex_groups.get(name) or ob.vertex_groups.new(name=name)
+    vg.add(np.asarray(idx).tolist(), weight, 'REPLACE')
+    return vg
+
+
+def add_handle(ob, group, controller_location=(0, 0, 0)):
+    """A handle driven by a new Empty (rest = its current transform)."""
+    empty = bpy.data.objects.new(group + "_ctrl", None)
+    bpy.context.scene.collection.objects.link(empty)
+    empty.location = controller_location
+    bpy.context.view_layer.update()
+    h = ob.edge_deform.handles.add()
+    h.vertex_group = group
+    h.controller = empty
+    h.rest_matrix = empty.matrix_world.copy()
+    return empty
+
+
+def positions(mesh):
+    co = np.empty(len(mesh.vertices) * 3, np.float32)
+    mesh.vertices.foreach_get("co", co)
+    return co.reshape(-1, 3)
+
+
+def key_positions(ob, name="EdgeDeform"):
+    kb = ob.data.shape_keys.key_blocks[name]
+    co = np.empty(len(kb.data) * 3, np.float32)
+    kb.data.foreach_get("co", co)
+    return co.reshape(-1, 3)
+
+
+def loop_triangles(mesh):
+    mesh.calc_loop_triangles()
+    t = np.empty(len(mesh.loop_triangles) * 3, np.int32)
+    mesh.loop_triangles.foreach_get("vertices", t)
+    return t.reshape(-1, 3)
+
+
+def transform(M, P):
+    M = np.array(M, float)
+    return P @ M[:3, :3].T + M[:3, 3]
+
+
+def reset_scene():
+    for ob in list(bpy.data.objects):
+        bpy.data.objects.remove(ob)
+    for me in list(bpy.data.meshes):
+        bpy.data.meshes.remove(me)
+    for k in list(bpy.data.shape_keys):
+        pass  # freed with their meshes
+    session.clear()
+    bpy.context.scene.frame_set(1)
+
+
+def expect_error(op, fragment="", **kw):
+    """Run an operator that must refuse: in background mode an ERROR report raises."""
+    try:
+        result = op(**kw)
+    except RuntimeError as exc:
+        assert fragment.lower() in str(exc).lower(), (fragment, str(exc))
+        print("  expected error:", str(exc).strip())
+        return str(exc)
+    raise AssertionError("%s returned %s instead of an error" % (op.idname_py(), result))
+
+
+# ------------------------------------------------------------------ runner
+
+def run(tests):
+    """Run each test on a clean scene; fail the Blender process if any fails."""
+    register()
+    failed = []
+    for test in tests:
+        reset_scene()
+        try:
+            test()
+            print("PASS", test.__name__)
+        except Exception:
+            traceback.print_exc()
+            print("FAIL", test.__name__)
+            failed.append(test.__name__)
+    print("%d passed, %d failed" % (len(tests) - len(failed), len(failed)))
+    if failed:
+        raise SystemExit("failed: " + ", ".join(failed))
