@@ -1,0 +1,29 @@
+// The compiled part of the edgedeform package: edgedeform._core.
+#include <pybind11/pybind11.h>
+
+#include "edgedeform/build_info.h"
+#include "edgedeform/errors.h"
+
+namespace py = pybind11;
+
+namespace edgedeform::bindings {
+void bind_deformer(py::module_& m);
+void bind_metrics(py::module_& m);
+}  // namespace edgedeform::bindings
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "edgedeform native core: edge-graph deformation solver";
+  py::register_exception<edgedeform::FactorizationError>(m, "FactorizationError", PyExc_RuntimeError);
+  m.def("build_info", [] {
+    py::dict info;
+    info["version"] = edgedeform::version();
+    info["solver"] = edgedeform::solver_backend();
+    info["openmp"] = edgedeform::has_openmp();
+    info["threads"] = edgedeform::max_threads();
+    info["eigen"] = edgedeform::eigen_version();
+    info["compiler"] = edgedeform::compiler();
+    return info;
+  });
+  edgedeform::bindings::bind_deformer(m);
+  edgedeform::bindings::bind_metrics(m);
+}

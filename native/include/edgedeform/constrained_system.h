@@ -1,0 +1,76 @@
+// The deformation problem once constraints are known: which vertices are free, which node
+// terms touch them (region of interest), and the sparse operators of the global step.
+//
+// With free vertices x_f and fixed ones x_c, the energy of DESIGN §2 over the active terms is
+//   E = sum_a W1_a |J1_a x - R_i(a) e0_a|^2 + sum_t W2_t |J2_t x - s_t R_t delta0_t|^2,
+// with J1 the arc differences (P_i - P_j) and J2 the graph Laplacian rows times P,
+// W1_a = lambda_i w_a, W2_t = 1 - lambda_t. Its normal equations, restricted to x_f, are
+//   A x_f = H Z + c,   A = J1f^T W1 J1f + J2f^T W2 J2f,
+// where Z stacks the entries of every R_t and s_t R_t, so that the right side of one
+// iteration is a single sparse product.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "edgedeform/local_step.h"
+#include "edgedeform/node_graph.h"
+
+namespace edgedeform {
+
+struct ConstraintSets {
+  std::vector<int> handles;
+  std::vector<int> statics;
+  std::optional<std::vector<int>> roi;  // nullopt: the whole mesh
+};
+
+struct ConstrainedSystem {
+  int n_vertices = 0;
+  std::vector<int> handles;          // as given; targets come in this order
+  std::vector<int> free_vertices;    // global ids; local id = position
+  std::vector<int> fixed_vertices;   // fixed vertices the terms touch; local id = nf + position
+  std::vector<int> term_nodes;       // active nodes (global ids); stencil node t < #terms
+  std::vector<int> stencil_nodes;    // active nodes, then their other neighbours (global ids)
+  RowMatrixX2i stencil_node_vertices;  // per stencil node: its (a,b) in local vertex ids
+  NodeStencil stencil;               // indices into the stencil-node position array
+  SparseMatrix J1f, J1c;             // #arcs x nf, #arcs x nc
+  SparseMatrix J2f, J2c;             // #terms x nf, #terms x nc
+  std::vector<std::string> warnings;
+
+  int n_free() const { return static_cast<int>(free_vertices.size()); }
+  int n_fixed() const { return static_cast<int>(fixed_vertices.size()); }
+  int n_terms() const { return stencil.n_terms; }
+};
+
+// Throws std::invalid_argument / std::out_of_range for bad constraint sets.
+ConstrainedSystem build_constrained_system(const NodeGraph& graph, const RowMatrixX3d& rest,
+                                           const RowMatrixX2i& mesh_edges,
+                                           const std::vector<bool>& referenced,
+                                           const ConstraintSets& sets);
+
+// The lambda-dependent operators.
+struct AssembledSystem {
+  SparseMatrix A;                 // nf x nf, symmetric
+  SparseMatrixRowMajor H;         // nf x 6 #terms
+  SparseMatrix B1;                // J1f^T W1  (nf x #arcs)
+  SparseMatrix B2;                // J2f^T W2  (nf x #terms), empty without the Laplacian term
+  Eigen::VectorXd term_lambda;    // #terms
+  bool laplacian_term = false;    // some term has lambda < 1
+};
+
+AssembledSystem assemble_system(const ConstrainedSystem& system, const Eigen::VectorXd& node_lambda);
+
+// c = -(B1 J1c + B2 J2c) x_c : the fixed vertices' share of the right side.
+Eigen::MatrixXd fixed_vertex_rhs(const ConstrainedSystem& system, const AssembledSystem& assembled,
+                                 const Eigen::MatrixXd& fixed_positions);
+
+// Z (6 #terms x 3): Z(k T + t, d) = R_t(d,k), Z((3+k) T + t, d) = s_t R_t(d,k).
+void stack_rotations(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
+                     RowMatrixX3d& Z);
+
+// y = H Z + c, rows in parallel.
+void right_hand_side(const SparseMatrixRowMajor& H, const RowMatrixX3d& Z,
+                     const Eigen::MatrixXd& c, Eigen::MatrixXd& y);
+
+}  // namespace edgedeform

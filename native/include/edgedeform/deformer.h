@@ -1,0 +1,84 @@
+// The public solver: a mesh, its graph, constraints and stiffness, and the local/global
+// iteration of DESIGN §2. Each setter validates before it changes anything, so a failed call
+// leaves the Deformer as it was.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "edgedeform/constrained_system.h"
+#include "edgedeform/edge_topology.h"
+#include "edgedeform/node_graph.h"
+#include "edgedeform/sparse_cholesky.h"
+
+namespace edgedeform {
+
+struct SolveOptions {
+  int max_iterations = 10;
+  double tolerance = 1e-4;
+  bool warm_start = true;
+  std::optional<RowMatrixX3d> initial;  // start with a local step on these positions
+};
+
+struct SolveResult {
+  RowMatrixX3d positions;
+  int iterations = 0;
+  std::vector<double> energies;                 // after each iteration
+  std::optional<double> initial_energy;         // energy of `initial`, when given
+  bool converged = false;
+  std::vector<std::string> warnings;
+  double factor_ms = 0.0;                       // assembly + factorization in this call
+  double local_ms = 0.0, rhs_ms = 0.0, solve_ms = 0.0;  // totals over the iterations
+  int free_vertices = 0;
+  int active_nodes = 0;
+};
+
+class Deformer {
+ public:
+  Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain,
+           bool clamp_negative_weights = true);
+
+  void set_constraints(const ConstraintSets& sets);
+  void set_stiffness(double lambda);
+  void set_stiffness(const Eigen::VectorXd& vertex_lambda);
+  // targets: (#handles x 3) in the order of the handles.
+  SolveResult solve(const RowMatrixX3d& targets, const SolveOptions& options);
+  // Energy of positions X over every node, with R_i, s_i fitted to X.
+  double energy(const RowMatrixX3d& X) const;
+
+  int n_vertices() const { return static_cast<int>(rest_.rows()); }
+  int n_faces() const { return static_cast<int>(faces_.rows()); }
+  Domain domain() const { return graph_.domain; }
+  const RowMatrixX3d& rest() const { return rest_; }
+  const RowMatrixX3i& faces() const { return faces_; }
+  const EdgeTopology& topology() const { return topology_; }
+  const NodeGraph& graph() const { return graph_; }
+  const Eigen::VectorXd& node_lambda() const { return node_lambda_; }
+  const Eigen::VectorXd& vertex_lambda() const { return vertex_lambda_; }
+  bool has_constraints() const { return system_ != nullptr; }
+  int analyses() const { return cholesky_.analyses(); }
+
+ private:
+  void ensure_factored(SolveResult& result);
+  RowMatrixX3d start_positions(const RowMatrixX3d& targets) const;
+
+  RowMatrixX3d rest_;
+  RowMatrixX3i faces_;
+  EdgeTopology topology_;
+  NodeGraph graph_;
+  std::vector<bool> referenced_;
+  Eigen::VectorXd vertex_lambda_;
+  Eigen::VectorXd node_lambda_;
+  std::unique_ptr<ConstrainedSystem> system_;
+  std::unique_ptr<AssembledSystem> assembled_;  // null when stiffness or constraints changed
+  SparseCholesky cholesky_;
+  // Warm start: the rotations and scales fitted to the last result, per global node.
+  std::vector<Eigen::Matrix3d> node_rotation_;
+  Eigen::VectorXd node_scale_;
+  bool has_previous_ = false;
+  mutable std::unique_ptr<NodeStencil> full_stencil_;  // for energy(), built on first use
+};
+
+}  // namespace edgedeform

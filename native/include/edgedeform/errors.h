@@ -1,0 +1,14 @@
+// Project exceptions. Bad arguments use the standard ones so that the bindings map them:
+// std::invalid_argument -> ValueError, std::out_of_range -> IndexError.
+#pragma once
+
+#include <stdexcept>
+
+namespace edgedeform {
+
+// The global matrix could not be factored (not positive definite).
+struct FactorizationError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace edgedeform

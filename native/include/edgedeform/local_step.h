@@ -1,0 +1,60 @@
+// The local step: per node, the rotation and isotropic scale that best fit its 1-form.
+#pragma once
+
+#include <vector>
+
+#include "edgedeform/types.h"
+
+namespace edgedeform {
+
+// The energy terms the solver evaluates. Term t belongs to one node; its arcs point to
+// neighbour nodes. Node indices refer to a node-position array chosen by the caller.
+struct NodeStencil {
+  int n_terms = 0;
+  std::vector<int> self;          // #terms: index of the term's own node
+  std::vector<int> offsets;       // #terms+1: arcs of term t are offsets[t] .. offsets[t+1)
+  std::vector<int> neighbour;     // #arcs: index of the neighbour node
+  std::vector<double> weight;     // #arcs: w_ij > 0
+  RowMatrixX3d rest_edge;         // #arcs: e0_ij = p0_i - p0_j
+  RowMatrixX3d rest_laplacian;    // #terms: delta0_i = sum_j w_ij e0_ij
+  Eigen::VectorXd rest_norm;      // #terms: sum_j w_ij |e0_ij|^2
+
+  int n_arcs() const { return static_cast<int>(neighbour.size()); }
+};
+
+// The terms of `term_nodes` (global node ids) of `graph`, with rest node positions
+// `rest_nodes`; `position_index` maps a global node id to its row in the position arrays the
+// stencil will be evaluated on. Arcs whose weight is not positive are left out: they add
+// nothing to the energy.
+struct NodeGraph;
+NodeStencil build_stencil(const NodeGraph& graph, const RowMatrixX3d& rest_nodes,
+                          const std::vector<int>& term_nodes, const std::vector<int>& position_index);
+
+// Result of the local step for every term.
+struct LocalFit {
+  std::vector<Eigen::Matrix3d> rotation;  // R_i
+  Eigen::VectorXd scale;                  // s_i
+  Eigen::VectorXd term_energy;            // each term's share of E
+  double energy = 0.0;                    // E(x) with these R_i, s_i (DESIGN §2)
+};
+
+// Scale bounds: s_i outside them means a collapsed or exploded neighbourhood, where an
+// unbounded s would feed back into the next global step.
+constexpr double kMinScale = 1e-2;
+constexpr double kMaxScale = 1e2;
+
+// The rotation R maximizing trace(R S): for S = U Sigma V^T, R = V U^T, with the column of
+// the smallest singular value flipped when det(V U^T) < 0.
+Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& S);
+
+// Fits R_i, s_i to `node_positions` for every term (in parallel) and evaluates the energy
+// with term stiffness `term_lambda` (#terms).
+void fit_local(const NodeStencil& stencil, const RowMatrixX3d& node_positions,
+               const Eigen::VectorXd& term_lambda, LocalFit& fit);
+
+// Energy of `node_positions` with given rotations and scales (no fitting).
+double stencil_energy(const NodeStencil& stencil, const RowMatrixX3d& node_positions,
+                      const Eigen::VectorXd& term_lambda, const std::vector<Eigen::Matrix3d>& rotation,
+                      const Eigen::VectorXd& scale);
+
+}  // namespace edgedeform

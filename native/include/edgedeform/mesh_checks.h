@@ -1,0 +1,26 @@
+// Validation of user meshes and index sets, with messages that name the problem.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "edgedeform/types.h"
+
+namespace edgedeform {
+
+// Throws std::invalid_argument for an empty mesh or non-finite coordinates,
+// std::out_of_range for a face index outside [0, n), std::invalid_argument for a face that
+// repeats a vertex.
+void check_mesh(const RowMatrixX3d& V, const RowMatrixX3i& F);
+
+// Throws std::out_of_range if an entry of `indices` (named `what`) is outside [0, n),
+// std::invalid_argument if one repeats.
+void check_index_set(const std::vector<int>& indices, int n, const char* what);
+
+// Throws std::invalid_argument if `X` (named `what`) has a non-finite entry.
+void check_finite(const RowMatrixX3d& X, const char* what);
+
+// True for each vertex used by at least one face.
+std::vector<bool> referenced_vertices(const RowMatrixX3i& F, int n);
+
+}  // namespace edgedeform

@@ -1,0 +1,47 @@
+#include "edgedeform/build_info.h"
+
+#include <Eigen/Core>
+
+#include "edgedeform/sparse_cholesky.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace edgedeform {
+
+const char* version() { return EDGEDEFORM_VERSION; }
+const char* solver_backend() { return SparseCholesky::backend(); }
+
+bool has_openmp() {
+#ifdef _OPENMP
+  return true;
+#else
+  return false;
+#endif
+}
+
+int max_threads() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
+std::string eigen_version() {
+  return std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +
+         std::to_string(EIGEN_MINOR_VERSION);
+}
+
+std::string compiler() {
+#if defined(__clang__)
+  return std::string("clang ") + __clang_version__;
+#elif defined(__GNUC__)
+  return std::string("gcc ") + __VERSION__;
+#else
+  return "unknown";
+#endif
+}
+
+}  // namespace edgedeform

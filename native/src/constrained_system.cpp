@@ -1,0 +1,278 @@
+#include "edgedeform/constrained_system.h"
+
+#include <algorithm>
+#include <deque>
+#include <stdexcept>
+#include <string>
+
+#include "edgedeform/mesh_checks.h"
+
+namespace edgedeform {
+
+namespace {
+
+enum Role : char { kFree = 0, kHandle = 1, kAtRest = 2 };
+
+// Vertex adjacency (CSR) from the mesh edges.
+void vertex_adjacency(const RowMatrixX2i& edges, int n, std::vector<int>& offsets, std::vector<int>& adj) {
+  offsets.assign(static_cast<size_t>(n) + 1, 0);
+  for (Eigen::Index e = 0; e < edges.rows(); ++e) {
+    ++offsets[static_cast<size_t>(edges(e, 0)) + 1];
+    ++offsets[static_cast<size_t>(edges(e, 1)) + 1];
+  }
+  for (int v = 0; v < n; ++v) offsets[static_cast<size_t>(v) + 1] += offsets[static_cast<size_t>(v)];
+  adj.resize(static_cast<size_t>(offsets.back()));
+  std::vector<int> cursor(offsets.begin(), offsets.end() - 1);
+  for (Eigen::Index e = 0; e < edges.rows(); ++e) {
+    const int a = edges(e, 0), b = edges(e, 1);
+    adj[static_cast<size_t>(cursor[static_cast<size_t>(a)]++)] = b;
+    adj[static_cast<size_t>(cursor[static_cast<size_t>(b)]++)] = a;
+  }
+}
+
+// Free components that touch no constrained vertex have nothing to hold them: they stay at
+// rest (their system would be singular). Returns how many vertices were pinned that way.
+int pin_unanchored_components(const RowMatrixX2i& edges, std::vector<Role>& role, int& n_components) {
+  const int n = static_cast<int>(role.size());
+  std::vector<int> offsets, adj;
+  vertex_adjacency(edges, n, offsets, adj);
+  std::vector<int> component(static_cast<size_t>(n), -1);
+  int pinned = 0;
+  n_components = 0;
+  std::vector<int> members;
+  for (int seed = 0; seed < n; ++seed) {
+    if (role[static_cast<size_t>(seed)] != kFree || component[static_cast<size_t>(seed)] >= 0) continue;
+    bool anchored = false;
+    members.clear();
+    std::deque<int> queue{seed};
+    component[static_cast<size_t>(seed)] = seed;
+    while (!queue.empty()) {
+      const int v = queue.front();
+      queue.pop_front();
+      members.push_back(v);
+      for (int k = offsets[static_cast<size_t>(v)]; k < offsets[static_cast<size_t>(v) + 1]; ++k) {
+        const int u = adj[static_cast<size_t>(k)];
+        if (role[static_cast<size_t>(u)] != kFree) {
+          anchored = true;
+        } else if (component[static_cast<size_t>(u)] < 0) {
+          component[static_cast<size_t>(u)] = seed;
+          queue.push_back(u);
+        }
+      }
+    }
+    if (!anchored) {
+      for (int v : members) role[static_cast<size_t>(v)] = kAtRest;
+      pinned += static_cast<int>(members.size());
+      ++n_components;
+    }
+  }
+  return pinned;
+}
+
+std::vector<Role> vertex_roles(int n, const std::vector<bool>& referenced, const ConstraintSets& sets,
+                               std::vector<std::string>& warnings) {
+  check_index_set(sets.handles, n, "handles");
+  check_index_set(sets.statics, n, "static");
+  if (sets.handles.empty()) throw std::invalid_argument("handles is empty: at least one handle vertex is needed");
+  std::vector<Role> role(static_cast<size_t>(n), kFree);
+  for (int v : sets.handles) role[static_cast<size_t>(v)] = kHandle;
+  for (int v : sets.statics) {
+    if (role[static_cast<size_t>(v)] == kHandle)
+      throw std::invalid_argument("vertex " + std::to_string(v) + " is in both handles and static");
+    role[static_cast<size_t>(v)] = kAtRest;
+  }
+  if (sets.roi) {
+    check_index_set(*sets.roi, n, "roi");
+    std::vector<bool> in_roi(static_cast<size_t>(n), false);
+    for (int v : *sets.roi) in_roi[static_cast<size_t>(v)] = true;
+    for (int v = 0; v < n; ++v)
+      if (!in_roi[static_cast<size_t>(v)] && role[static_cast<size_t>(v)] == kFree) role[static_cast<size_t>(v)] = kAtRest;
+  }
+  int unreferenced = 0;
+  for (int v = 0; v < n; ++v)
+    if (!referenced[static_cast<size_t>(v)] && role[static_cast<size_t>(v)] == kFree) {
+      role[static_cast<size_t>(v)] = kAtRest;
+      ++unreferenced;
+    }
+  if (unreferenced > 0)
+    warnings.push_back(std::to_string(unreferenced) + " vertices are not used by any face and stay at rest");
+  return role;
+}
+
+}  // namespace
+
+ConstrainedSystem build_constrained_system(const NodeGraph& g, const RowMatrixX3d& rest, const RowMatrixX2i& mesh_edges,
+                                           const std::vector<bool>& referenced, const ConstraintSets& sets) {
+  ConstrainedSystem sys;
+  const int n = g.n_vertices;
+  sys.n_vertices = n;
+  std::vector<Role> role = vertex_roles(n, referenced, sets, sys.warnings);
+  int n_components = 0;
+  const int pinned = pin_unanchored_components(mesh_edges, role, n_components);
+  if (pinned > 0)
+    sys.warnings.push_back(std::to_string(pinned) + " free vertices in " + std::to_string(n_components) +
+                           " component(s) touch no handle or static vertex and stay at rest");
+  sys.handles = sets.handles;
+
+  // Local vertex ids: free vertices first, then the fixed ones the terms touch.
+  std::vector<int> local(static_cast<size_t>(n), -1);
+  for (int v = 0; v < n; ++v)
+    if (role[static_cast<size_t>(v)] == kFree) {
+      local[static_cast<size_t>(v)] = static_cast<int>(sys.free_vertices.size());
+      sys.free_vertices.push_back(v);
+    }
+  const int nf = sys.n_free();
+
+  // Active terms: nodes whose own or neighbours' positions depend on a free vertex.
+  auto node_has_free = [&](int i) {
+    return role[static_cast<size_t>(g.node_vertices(i, 0))] == kFree || role[static_cast<size_t>(g.node_vertices(i, 1))] == kFree;
+  };
+  std::vector<char> touches(static_cast<size_t>(g.n_nodes), 0);
+  for (int i = 0; i < g.n_nodes; ++i) {
+    if (!node_has_free(i)) continue;
+    touches[static_cast<size_t>(i)] = 1;
+    for (int k = g.offsets[static_cast<size_t>(i)]; k < g.offsets[static_cast<size_t>(i) + 1]; ++k)
+      touches[static_cast<size_t>(g.adjacency[static_cast<size_t>(k)])] = 1;
+  }
+  std::vector<int> stencil_index(static_cast<size_t>(g.n_nodes), -1);
+  for (int i = 0; i < g.n_nodes; ++i)
+    if (touches[static_cast<size_t>(i)]) {
+      stencil_index[static_cast<size_t>(i)] = static_cast<int>(sys.term_nodes.size());
+      sys.term_nodes.push_back(i);
+    }
+  sys.stencil_nodes = sys.term_nodes;
+  for (int i : sys.term_nodes)
+    for (int k = g.offsets[static_cast<size_t>(i)]; k < g.offsets[static_cast<size_t>(i) + 1]; ++k) {
+      const int j = g.adjacency[static_cast<size_t>(k)];
+      if (stencil_index[static_cast<size_t>(j)] < 0) {
+        stencil_index[static_cast<size_t>(j)] = static_cast<int>(sys.stencil_nodes.size());
+        sys.stencil_nodes.push_back(j);
+      }
+    }
+  const int n_stencil = static_cast<int>(sys.stencil_nodes.size());
+  sys.stencil_node_vertices.resize(n_stencil, 2);
+  for (int s = 0; s < n_stencil; ++s)
+    for (int c = 0; c < 2; ++c) {
+      const int v = g.node_vertices(sys.stencil_nodes[static_cast<size_t>(s)], c);
+      if (local[static_cast<size_t>(v)] < 0) {
+        local[static_cast<size_t>(v)] = nf + static_cast<int>(sys.fixed_vertices.size());
+        sys.fixed_vertices.push_back(v);
+      }
+      sys.stencil_node_vertices(s, c) = local[static_cast<size_t>(v)];
+    }
+  const int nc = sys.n_fixed();
+
+  // Stencil of the active terms, and J1 (arc differences), J2 (Laplacian rows) in local ids.
+  sys.stencil = build_stencil(g, g.node_positions(rest), sys.term_nodes, stencil_index);
+  const NodeStencil& st = sys.stencil;
+  const int T = st.n_terms, n_arcs = st.n_arcs();
+
+  std::vector<Eigen::Triplet<double>> j1, j2;
+  j1.reserve(static_cast<size_t>(4 * n_arcs));
+  j2.reserve(static_cast<size_t>(4 * n_arcs));
+  for (int t = 0; t < T; ++t) {
+    for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a) {
+      const double w = st.weight[static_cast<size_t>(a)];
+      const int j = st.neighbour[static_cast<size_t>(a)];
+      for (int c = 0; c < 2; ++c) {  // p_i - p_j, each node the mean of its two vertex slots
+        j1.emplace_back(a, sys.stencil_node_vertices(t, c), 0.5);
+        j1.emplace_back(a, sys.stencil_node_vertices(j, c), -0.5);
+        j2.emplace_back(t, sys.stencil_node_vertices(t, c), 0.5 * w);
+        j2.emplace_back(t, sys.stencil_node_vertices(j, c), -0.5 * w);
+      }
+    }
+  }
+  SparseMatrix J1(n_arcs, nf + nc), J2(T, nf + nc);
+  J1.setFromTriplets(j1.begin(), j1.end());
+  J2.setFromTriplets(j2.begin(), j2.end());
+  J1.prune(0.0);  // in the edge domain the shared vertex cancels exactly
+  J2.prune(0.0);
+  sys.J1f = J1.leftCols(nf);
+  sys.J1c = J1.rightCols(nc);
+  sys.J2f = J2.leftCols(nf);
+  sys.J2c = J2.rightCols(nc);
+  return sys;
+}
+
+AssembledSystem assemble_system(const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
+  AssembledSystem out;
+  const NodeStencil& st = sys.stencil;
+  const int T = st.n_terms, nf = sys.n_free();
+  out.term_lambda.resize(T);
+  for (int t = 0; t < T; ++t) out.term_lambda(t) = node_lambda(sys.term_nodes[static_cast<size_t>(t)]);
+  out.laplacian_term = (out.term_lambda.array() < 1.0).any();
+
+  Eigen::VectorXd w1(st.n_arcs());
+  for (int t = 0; t < T; ++t)
+    for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a)
+      w1(a) = out.term_lambda(t) * st.weight[static_cast<size_t>(a)];
+  const Eigen::VectorXd w2 = (1.0 - out.term_lambda.array()).matrix();
+
+  // The J1 term is kept even when every W1 is 0: its pattern lies inside the J2 term's, so
+  // the symbolic analysis survives any change of lambda below 1.
+  out.B1 = SparseMatrix(sys.J1f.transpose()) * w1.asDiagonal();
+  out.A = out.B1 * sys.J1f;
+  if (out.laplacian_term) {
+    out.B2 = SparseMatrix(sys.J2f.transpose()) * w2.asDiagonal();
+    out.A += out.B2 * sys.J2f;
+  }
+
+  // H: column block k (0..2) carries R(d,k) through the 1-form term, block 3+k carries
+  // s R(d,k) through the Laplacian term.
+  std::vector<Eigen::Triplet<double>> h;
+  h.reserve(static_cast<size_t>(3 * (out.B1.nonZeros() + out.B2.nonZeros())));
+  for (int t = 0; t < T; ++t) {
+    for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a) {
+      if (w1(a) == 0.0) continue;
+      for (SparseMatrix::InnerIterator it(out.B1, a); it; ++it)
+        for (int k = 0; k < 3; ++k) h.emplace_back(static_cast<int>(it.row()), k * T + t, it.value() * st.rest_edge(a, k));
+    }
+    if (out.laplacian_term && w2(t) != 0.0)
+      for (SparseMatrix::InnerIterator it(out.B2, t); it; ++it)
+        for (int k = 0; k < 3; ++k)
+          h.emplace_back(static_cast<int>(it.row()), (3 + k) * T + t, it.value() * st.rest_laplacian(t, k));
+  }
+  out.H.resize(nf, 6 * T);
+  out.H.setFromTriplets(h.begin(), h.end());
+  return out;
+}
+
+Eigen::MatrixXd fixed_vertex_rhs(const ConstrainedSystem& sys, const AssembledSystem& as, const Eigen::MatrixXd& xc) {
+  Eigen::MatrixXd c = -(as.B1 * (sys.J1c * xc));
+  if (as.laplacian_term) c.noalias() -= as.B2 * (sys.J2c * xc);
+  return c;
+}
+
+void stack_rotations(const std::vector<Eigen::Matrix3d>& R, const Eigen::VectorXd& s, RowMatrixX3d& Z) {
+  const int T = static_cast<int>(R.size());
+  Z.resize(6 * T, 3);
+#pragma omp parallel for schedule(static) if (T > 4096)
+  for (int t = 0; t < T; ++t)
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) {
+        Z(k * T + t, d) = R[static_cast<size_t>(t)](d, k);
+        Z((3 + k) * T + t, d) = s(t) * R[static_cast<size_t>(t)](d, k);
+      }
+}
+
+void right_hand_side(const SparseMatrixRowMajor& H, const RowMatrixX3d& Z, const Eigen::MatrixXd& c,
+                     Eigen::MatrixXd& y) {
+  const int rows = static_cast<int>(H.rows());
+  y.resize(rows, 3);
+#pragma omp parallel for schedule(dynamic, 1024) if (rows > 4096)
+  for (int r = 0; r < rows; ++r) {
+    double y0 = c(r, 0), y1 = c(r, 1), y2 = c(r, 2);
+    for (SparseMatrixRowMajor::InnerIterator it(H, r); it; ++it) {
+      const double v = it.value();
+      const Eigen::Index col = it.col();
+      y0 += v * Z(col, 0);
+      y1 += v * Z(col, 1);
+      y2 += v * Z(col, 2);
+    }
+    y(r, 0) = y0;
+    y(r, 1) = y1;
+    y(r, 2) = y2;
+  }
+}
+
+}  // namespace edgedeform

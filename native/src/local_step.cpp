@@ -1,0 +1,166 @@
+#include "edgedeform/local_step.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "edgedeform/node_graph.h"
+
+namespace edgedeform {
+
+NodeStencil build_stencil(const NodeGraph& g, const RowMatrixX3d& rest_nodes, const std::vector<int>& term_nodes,
+                          const std::vector<int>& position_index) {
+  NodeStencil st;
+  const int T = static_cast<int>(term_nodes.size());
+  st.n_terms = T;
+  st.self.resize(static_cast<size_t>(T));
+  st.offsets.assign(1, 0);
+  std::vector<Eigen::Vector3d> rest_edges;
+  for (int t = 0; t < T; ++t) {
+    const int i = term_nodes[static_cast<size_t>(t)];
+    st.self[static_cast<size_t>(t)] = position_index[static_cast<size_t>(i)];
+    for (int k = g.offsets[static_cast<size_t>(i)]; k < g.offsets[static_cast<size_t>(i) + 1]; ++k) {
+      const double w = g.adjacency_weights[static_cast<size_t>(k)];
+      if (!(w > 0.0)) continue;
+      const int j = g.adjacency[static_cast<size_t>(k)];
+      st.neighbour.push_back(position_index[static_cast<size_t>(j)]);
+      st.weight.push_back(w);
+      rest_edges.push_back((rest_nodes.row(i) - rest_nodes.row(j)).transpose());
+    }
+    st.offsets.push_back(static_cast<int>(st.neighbour.size()));
+  }
+  const int n_arcs = st.n_arcs();
+  st.rest_edge.resize(n_arcs, 3);
+  for (int a = 0; a < n_arcs; ++a) st.rest_edge.row(a) = rest_edges[static_cast<size_t>(a)].transpose();
+  st.rest_laplacian.setZero(T, 3);
+  st.rest_norm.setZero(T);
+  for (int t = 0; t < T; ++t)
+    for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a) {
+      st.rest_laplacian.row(t) += st.weight[static_cast<size_t>(a)] * st.rest_edge.row(a);
+      st.rest_norm(t) += st.weight[static_cast<size_t>(a)] * st.rest_edge.row(a).squaredNorm();
+    }
+  return st;
+}
+
+// One-sided Jacobi SVD (Hestenes): rotate the columns of A = S until they are orthogonal,
+// so that S V = U Sigma. Exact rotations, accurate to round-off, and several times faster
+// than a general SVD for 3x3. With the two largest singular pairs (u1,v1), (u2,v2), the
+// optimal proper rotation is R = v1 u1^T + v2 u2^T + (v1 x v2)(u1 x u2)^T: both U and V
+// are completed to rotations, which is exactly the reflection fix (flip the column of the
+// smallest singular value when det(V U^T) < 0), and it stays well defined when S is rank 2.
+Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& S) {
+  Eigen::Matrix3d A = S;
+  Eigen::Matrix3d V = Eigen::Matrix3d::Identity();
+  constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (int sweep = 0; sweep < 12; ++sweep) {
+    bool rotated = false;
+    for (const auto& pair : kPairs) {
+      const int p = pair[0], q = pair[1];
+      const double alpha = A.col(p).squaredNorm(), beta = A.col(q).squaredNorm(), gamma = A.col(p).dot(A.col(q));
+      if (!(std::abs(gamma) > 1e-15 * std::sqrt(alpha * beta))) continue;
+      rotated = true;
+      const double zeta = (beta - alpha) / (2.0 * gamma);
+      const double t = (zeta >= 0.0 ? 1.0 : -1.0) / (std::abs(zeta) + std::sqrt(1.0 + zeta * zeta));
+      const double c = 1.0 / std::sqrt(1.0 + t * t), s = c * t;
+      const Eigen::Vector3d ap = A.col(p), vp = V.col(p);
+      A.col(p) = c * ap - s * A.col(q);
+      A.col(q) = s * ap + c * A.col(q);
+      V.col(p) = c * vp - s * V.col(q);
+      V.col(q) = s * vp + c * V.col(q);
+    }
+    if (!rotated) break;
+  }
+  // The two largest singular values and their vectors.
+  Eigen::Vector3d sigma(A.col(0).norm(), A.col(1).norm(), A.col(2).norm());
+  int i1 = 0;
+  if (sigma(1) > sigma(i1)) i1 = 1;
+  if (sigma(2) > sigma(i1)) i1 = 2;
+  int i2 = (i1 == 0) ? 1 : 0;
+  for (int k = 0; k < 3; ++k)
+    if (k != i1 && sigma(k) > sigma(i2)) i2 = k;
+  if (!(sigma(i1) > 0.0)) return Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d u1 = A.col(i1) / sigma(i1);
+  Eigen::Vector3d u2;
+  if (sigma(i2) > 1e-12 * sigma(i1)) {
+    u2 = A.col(i2) - u1.dot(A.col(i2)) * u1;  // re-orthogonalize against round-off
+    u2.normalize();
+  } else {  // rank 1: any direction orthogonal to u1 (R is not unique here)
+    u2 = u1.unitOrthogonal();
+  }
+  const Eigen::Vector3d v1 = V.col(i1), v2 = V.col(i2);
+  return v1 * u1.transpose() + v2 * u2.transpose() + v1.cross(v2) * u1.cross(u2).transpose();
+}
+
+namespace {
+
+// One term's fit: R_t, s_t and its energy.
+double fit_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int t,
+                Eigen::Matrix3d& R, double& s) {
+  const Eigen::Vector3d pi = p.row(st.self[static_cast<size_t>(t)]).transpose();
+  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d laplacian = Eigen::Vector3d::Zero();
+  const int begin = st.offsets[static_cast<size_t>(t)], end = st.offsets[static_cast<size_t>(t) + 1];
+  for (int a = begin; a < end; ++a) {
+    const double w = st.weight[static_cast<size_t>(a)];
+    const Eigen::Vector3d e = pi - p.row(st.neighbour[static_cast<size_t>(a)]).transpose();
+    S.noalias() += (w * st.rest_edge.row(a).transpose()) * e.transpose();
+    laplacian += w * e;
+  }
+  const double rest_norm = st.rest_norm(t);
+  if (rest_norm > 0.0) {
+    R = closest_rotation(S);
+    s = std::clamp((R * S).trace() / rest_norm, kMinScale, kMaxScale);
+  } else {
+    R.setIdentity();
+    s = 1.0;
+  }
+  double rigid = 0.0;
+  if (lambda > 0.0) {
+    for (int a = begin; a < end; ++a) {
+      const Eigen::Vector3d e = pi - p.row(st.neighbour[static_cast<size_t>(a)]).transpose();
+      rigid += st.weight[static_cast<size_t>(a)] * (e - R * st.rest_edge.row(a).transpose()).squaredNorm();
+    }
+  }
+  const double smooth = (laplacian - s * (R * st.rest_laplacian.row(t).transpose())).squaredNorm();
+  return lambda * rigid + (1.0 - lambda) * smooth;
+}
+
+}  // namespace
+
+void fit_local(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::VectorXd& lambda, LocalFit& fit) {
+  const int T = st.n_terms;
+  fit.rotation.resize(static_cast<size_t>(T));
+  fit.scale.resize(T);
+  fit.term_energy.resize(T);
+#pragma omp parallel for schedule(dynamic, 256) if (T > 1024)
+  for (int t = 0; t < T; ++t) {
+    double s = 1.0;
+    fit.term_energy(t) = fit_term(st, p, lambda(t), t, fit.rotation[static_cast<size_t>(t)], s);
+    fit.scale(t) = s;
+  }
+  fit.energy = fit.term_energy.sum();  // a fixed order: the same energy on every run
+}
+
+double stencil_energy(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::VectorXd& lambda,
+                      const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale) {
+  Eigen::VectorXd term_energy(st.n_terms);
+#pragma omp parallel for schedule(dynamic, 256) if (st.n_terms > 1024)
+  for (int t = 0; t < st.n_terms; ++t) {
+    const Eigen::Matrix3d& R = rotation[static_cast<size_t>(t)];
+    const Eigen::Vector3d pi = p.row(st.self[static_cast<size_t>(t)]).transpose();
+    Eigen::Vector3d laplacian = Eigen::Vector3d::Zero();
+    double rigid = 0.0;
+    for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a) {
+      const double w = st.weight[static_cast<size_t>(a)];
+      const Eigen::Vector3d e = pi - p.row(st.neighbour[static_cast<size_t>(a)]).transpose();
+      rigid += w * (e - R * st.rest_edge.row(a).transpose()).squaredNorm();
+      laplacian += w * e;
+    }
+    const double smooth = (laplacian - scale(t) * (R * st.rest_laplacian.row(t).transpose())).squaredNorm();
+    term_energy(t) = lambda(t) * rigid + (1.0 - lambda(t)) * smooth;
+  }
+  return term_energy.sum();
+}
+
+}  // namespace edgedeform

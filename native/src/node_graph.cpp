@@ -1,0 +1,127 @@
+#include "edgedeform/node_graph.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <tuple>
+#include <vector>
+
+#include "edgedeform/cotangent.h"
+
+namespace edgedeform {
+
+namespace {
+
+// Node pair joined by corner k of face f, in the given domain (see the header).
+std::pair<int, int> corner_arc(const RowMatrixX3i& F, const EdgeTopology& topo, Domain domain,
+                               Eigen::Index f, int k) {
+  const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+  if (domain == Domain::Primal) return {F(f, k1), F(f, k2)};
+  return {topo.face_edges(f, k1), topo.face_edges(f, k2)};
+}
+
+}  // namespace
+
+NodeGraph build_node_graph(const RowMatrixX3d& V, const RowMatrixX3i& F, const EdgeTopology& topo,
+                           Domain domain, bool clamp_negative_weights) {
+  NodeGraph g;
+  g.domain = domain;
+  g.n_vertices = static_cast<int>(V.rows());
+  if (domain == Domain::Edge) {
+    g.node_vertices = topo.edges;
+  } else {
+    g.node_vertices.resize(V.rows(), 2);
+    for (Eigen::Index v = 0; v < V.rows(); ++v) g.node_vertices.row(v).setConstant(static_cast<int>(v));
+  }
+  g.n_nodes = static_cast<int>(g.node_vertices.rows());
+
+  // Every corner adds 1/2 cot(angle) to one arc; arcs met in several triangles add up.
+  std::vector<std::tuple<int64_t, double>> contributions;
+  contributions.reserve(static_cast<size_t>(3 * F.rows()));
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d a = V.row(F(f, k)).transpose();
+      const Eigen::Vector3d u = V.row(F(f, (k + 1) % 3)).transpose() - a;
+      const Eigen::Vector3d v = V.row(F(f, (k + 2) % 3)).transpose() - a;
+      auto [i, j] = corner_arc(F, topo, domain, f, k);
+      if (i > j) std::swap(i, j);
+      contributions.emplace_back(static_cast<int64_t>(i) * g.n_nodes + j, 0.5 * safe_cotangent(u, v));
+    }
+  }
+  std::sort(contributions.begin(), contributions.end(),
+            [](const auto& x, const auto& y) { return std::get<0>(x) < std::get<0>(y); });
+
+  std::vector<int> ai, aj;
+  std::vector<double> aw;
+  for (size_t s = 0; s < contributions.size();) {
+    double w = 0.0;
+    size_t e = s;
+    for (; e < contributions.size() && std::get<0>(contributions[e]) == std::get<0>(contributions[s]); ++e)
+      w += std::get<1>(contributions[e]);
+    const int64_t key = std::get<0>(contributions[s]);
+    ai.push_back(static_cast<int>(key / g.n_nodes));
+    aj.push_back(static_cast<int>(key % g.n_nodes));
+    aw.push_back(clamp_negative_weights ? std::max(w, 0.0) : w);
+    s = e;
+  }
+  const Eigen::Index n_arcs = static_cast<Eigen::Index>(ai.size());
+  g.arcs.resize(n_arcs, 2);
+  g.arc_weights.resize(n_arcs);
+  std::vector<int> degree(static_cast<size_t>(g.n_nodes), 0);
+  for (Eigen::Index a = 0; a < n_arcs; ++a) {
+    g.arcs(a, 0) = ai[static_cast<size_t>(a)];
+    g.arcs(a, 1) = aj[static_cast<size_t>(a)];
+    g.arc_weights(a) = aw[static_cast<size_t>(a)];
+    ++degree[static_cast<size_t>(ai[static_cast<size_t>(a)])];
+    ++degree[static_cast<size_t>(aj[static_cast<size_t>(a)])];
+  }
+  g.offsets.assign(static_cast<size_t>(g.n_nodes) + 1, 0);
+  for (int i = 0; i < g.n_nodes; ++i) g.offsets[static_cast<size_t>(i) + 1] = g.offsets[static_cast<size_t>(i)] + degree[static_cast<size_t>(i)];
+  g.adjacency.resize(static_cast<size_t>(g.offsets.back()));
+  g.adjacency_weights.resize(g.adjacency.size());
+  std::vector<int> cursor(g.offsets.begin(), g.offsets.end() - 1);
+  for (Eigen::Index a = 0; a < n_arcs; ++a) {
+    const int i = g.arcs(a, 0), j = g.arcs(a, 1);
+    const double w = g.arc_weights(a);
+    g.adjacency[static_cast<size_t>(cursor[static_cast<size_t>(i)])] = j;
+    g.adjacency_weights[static_cast<size_t>(cursor[static_cast<size_t>(i)]++)] = w;
+    g.adjacency[static_cast<size_t>(cursor[static_cast<size_t>(j)])] = i;
+    g.adjacency_weights[static_cast<size_t>(cursor[static_cast<size_t>(j)]++)] = w;
+  }
+  return g;
+}
+
+RowMatrixX3d NodeGraph::node_positions(const RowMatrixX3d& X) const {
+  RowMatrixX3d p(n_nodes, 3);
+  for (int i = 0; i < n_nodes; ++i) p.row(i) = 0.5 * (X.row(node_vertices(i, 0)) + X.row(node_vertices(i, 1)));
+  return p;
+}
+
+SparseMatrix NodeGraph::node_matrix() const {
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(static_cast<size_t>(2 * n_nodes));
+  for (int i = 0; i < n_nodes; ++i) {
+    t.emplace_back(i, node_vertices(i, 0), 0.5);
+    t.emplace_back(i, node_vertices(i, 1), 0.5);  // primal: the two halves sum to 1
+  }
+  SparseMatrix P(n_nodes, n_vertices);
+  P.setFromTriplets(t.begin(), t.end());
+  return P;
+}
+
+SparseMatrix NodeGraph::laplacian() const {
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(static_cast<size_t>(4 * arcs.rows()));
+  for (Eigen::Index a = 0; a < arcs.rows(); ++a) {
+    const int i = arcs(a, 0), j = arcs(a, 1);
+    const double w = arc_weights(a);
+    t.emplace_back(i, j, -w);
+    t.emplace_back(j, i, -w);
+    t.emplace_back(i, i, w);
+    t.emplace_back(j, j, w);
+  }
+  SparseMatrix L(n_nodes, n_nodes);
+  L.setFromTriplets(t.begin(), t.end());
+  return L;
+}
+
+}  // namespace edgedeform

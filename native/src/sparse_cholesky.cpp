@@ -1,0 +1,166 @@
+#include "edgedeform/sparse_cholesky.h"
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "edgedeform/errors.h"
+
+#ifdef EDGEDEFORM_HAS_CHOLMOD
+#include <cholmod.h>
+#else
+#include <Eigen/SparseCholesky>
+#endif
+
+namespace edgedeform {
+
+namespace {
+
+// Same size and the same stored entries as last time: the symbolic analysis still holds.
+struct Pattern {
+  std::vector<int> outer, inner;
+  bool matches(const SparseMatrix& A) const {
+    const auto n = static_cast<size_t>(A.cols());
+    if (outer.size() != n + 1 || inner.size() != static_cast<size_t>(A.nonZeros())) return false;
+    return std::equal(outer.begin(), outer.end(), A.outerIndexPtr()) &&
+           std::equal(inner.begin(), inner.end(), A.innerIndexPtr());
+  }
+  void remember(const SparseMatrix& A) {
+    outer.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.cols() + 1);
+    inner.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
+  }
+};
+
+}  // namespace
+
+#ifdef EDGEDEFORM_HAS_CHOLMOD
+
+struct SparseCholesky::Impl {
+  cholmod_common common;
+  cholmod_factor* factor = nullptr;
+  // Work space reused by cholmod_solve2, so a solve allocates nothing after the first.
+  cholmod_dense* x = nullptr;
+  cholmod_dense* y = nullptr;
+  cholmod_dense* e = nullptr;
+  Pattern pattern;
+  bool factored = false;
+  int analyses = 0;
+
+  Impl() {
+    cholmod_start(&common);
+    common.supernodal = CHOLMOD_SUPERNODAL;
+    common.print = 0;
+    common.error_handler = nullptr;
+  }
+  ~Impl() {
+    cholmod_free_dense(&x, &common);
+    cholmod_free_dense(&y, &common);
+    cholmod_free_dense(&e, &common);
+    cholmod_free_factor(&factor, &common);
+    cholmod_finish(&common);
+  }
+
+  // A view of Eigen's compressed column storage; stype -1 reads the lower triangle.
+  static cholmod_sparse view(const SparseMatrix& A) {
+    cholmod_sparse s{};
+    s.nrow = static_cast<size_t>(A.rows());
+    s.ncol = static_cast<size_t>(A.cols());
+    s.nzmax = static_cast<size_t>(A.nonZeros());
+    s.p = const_cast<int*>(A.outerIndexPtr());
+    s.i = const_cast<int*>(A.innerIndexPtr());
+    s.x = const_cast<double*>(A.valuePtr());
+    s.stype = -1;
+    s.itype = CHOLMOD_INT;
+    s.xtype = CHOLMOD_REAL;
+    s.dtype = CHOLMOD_DOUBLE;
+    s.sorted = 1;
+    s.packed = 1;
+    return s;
+  }
+};
+
+SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
+SparseCholesky::~SparseCholesky() = default;
+
+void SparseCholesky::factorize(const SparseMatrix& A) {
+  Impl& m = *impl_;
+  m.factored = false;
+  cholmod_sparse view = Impl::view(A);
+  if (!m.factor || !m.pattern.matches(A)) {
+    cholmod_free_factor(&m.factor, &m.common);
+    m.pattern = Pattern{};
+    m.factor = cholmod_analyze(&view, &m.common);
+    if (!m.factor) throw FactorizationError("CHOLMOD could not analyze the matrix (status " + std::to_string(m.common.status) + ")");
+    m.pattern.remember(A);
+    ++m.analyses;
+  }
+  const int ok = cholmod_factorize(&view, m.factor, &m.common);
+  if (!ok || m.common.status == CHOLMOD_NOT_POSDEF || m.factor->minor < m.factor->n)
+    throw FactorizationError(
+        "the deformation matrix is not positive definite (column " + std::to_string(m.factor->minor) +
+        " of " + std::to_string(m.factor->n) + "): a free region without constraints, or degenerate triangles "
+        "whose weights were all clamped to zero");
+  m.factored = true;
+}
+
+void SparseCholesky::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) {
+  Impl& m = *impl_;
+  if (!m.factored) throw FactorizationError("solve called without a factorization");
+  cholmod_dense b{};
+  b.nrow = static_cast<size_t>(B.rows());
+  b.ncol = static_cast<size_t>(B.cols());
+  b.nzmax = b.nrow * b.ncol;
+  b.d = b.nrow;
+  b.x = const_cast<double*>(B.data());
+  b.xtype = CHOLMOD_REAL;
+  b.dtype = CHOLMOD_DOUBLE;
+  if (!cholmod_solve2(CHOLMOD_A, m.factor, &b, nullptr, &m.x, nullptr, &m.y, &m.e, &m.common))
+    throw FactorizationError("CHOLMOD solve failed (status " + std::to_string(m.common.status) + ")");
+  X = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(m.x->x), B.rows(), B.cols());
+}
+
+bool SparseCholesky::factored() const { return impl_->factored; }
+int SparseCholesky::analyses() const { return impl_->analyses; }
+const char* SparseCholesky::backend() { return "cholmod-supernodal"; }
+
+#else  // Eigen fallback
+
+struct SparseCholesky::Impl {
+  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> ldlt;
+  Pattern pattern;
+  bool analyzed = false;
+  bool factored = false;
+  int analyses = 0;
+};
+
+SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
+SparseCholesky::~SparseCholesky() = default;
+
+void SparseCholesky::factorize(const SparseMatrix& A) {
+  Impl& m = *impl_;
+  m.factored = false;
+  if (!m.analyzed || !m.pattern.matches(A)) {
+    m.ldlt.analyzePattern(A);
+    m.pattern.remember(A);
+    m.analyzed = true;
+    ++m.analyses;
+  }
+  m.ldlt.factorize(A);
+  if (m.ldlt.info() != Eigen::Success || (m.ldlt.vectorD().array() <= 0.0).any())
+    throw FactorizationError("the deformation matrix is not positive definite: a free region without "
+                             "constraints, or degenerate triangles whose weights were all clamped to zero");
+  m.factored = true;
+}
+
+void SparseCholesky::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) {
+  if (!impl_->factored) throw FactorizationError("solve called without a factorization");
+  X = impl_->ldlt.solve(B);
+}
+
+bool SparseCholesky::factored() const { return impl_->factored; }
+int SparseCholesky::analyses() const { return impl_->analyses; }
+const char* SparseCholesky::backend() { return "eigen-simplicial-ldlt"; }
+
+#endif
+
+}  // namespace edgedeform
