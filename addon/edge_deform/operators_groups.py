@@ -51,7 +51,8 @@ class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
             for other in [h.vertex_group for h in s.handles] + [s.static_group]:
                 if other and other in ob.vertex_groups:
                     ob.vertex_groups[other].remove(idx.tolist())
-            vg = mesh_io.assign_group(ob, self.name or "Handle", idx)
+            vg = ob.vertex_groups.new(name=self.name or "Handle")   # unique: "Handle.001"
+            mesh_io.assign_group(ob, vg.name, idx)
             empty = bpy.data.objects.new(vg.name + "_Controller", None)
             empty.empty_display_type = 'SPHERE'
             empty.empty_display_size = size
