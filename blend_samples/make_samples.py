@@ -5,7 +5,8 @@
 
 Each scene: the mesh (normalised, vertex order as in the file), one vertex group per handle
 ("handle_<name>"), "static", "stiffness" (weight = painted λ on every vertex), an Empty
-controller per handle already moved to the edit (its rest transform recorded on the handle),
+controller per handle already moved to the edit (its rest transform recorded on the handle;
+keyed at rest on frame 1 and at the edit on frame 24, where the file opens),
 the `ob.edge_deform` settings, a camera and Workbench lighting. Settings need the add-on's
 properties: it is enabled if installed, else registered from the source tree (addon/).
 """
@@ -21,6 +22,8 @@ REPO = os.path.dirname(HERE)
 sys.path[:0] = [HERE, os.path.join(REPO, "demo")]
 import regions  # noqa: E402
 import render   # noqa: E402
+
+EDIT_FRAME = 24
 
 
 def enable_addon():
@@ -75,7 +78,7 @@ def build_scene(scene):
         s = ob.edge_deform
         s.static_group, s.stiffness_group = "static", "stiffness"
         s.stiffness, s.domain = 0.5, "EDGE"
-        s.iterations, s.tolerance = 200, 1e-4
+        s.iterations, s.tolerance = 100, 1e-4   # Solve converges; Live warm-starts
         s.output = "SHAPE_KEY"
     for h in setup["handles"]:
         add_group(ob, "handle_" + h["name"], h["index"])
@@ -87,10 +90,16 @@ def build_scene(scene):
         if have_settings:
             item = s.handles.add()
             item.vertex_group, item.controller = "handle_" + h["name"], ctrl
-            item.rest_matrix = Matrix(rest.tolist())
-        ctrl["rest_matrix"] = rest.ravel().tolist()   # also readable without the add-on
-        ctrl.matrix_world = Matrix(h["matrix"].tolist())  # already moved to the edit
+            item.rest_matrix = rest.T.ravel().tolist()   # the property is column-major
+        # Keyed: rest at frame 1, the edit at EDIT_FRAME (the frame the file opens on), so
+        # Bind at frame 1 (which records the rest) and the edit both stay reachable.
+        for frame, M in ((1, rest), (EDIT_FRAME, h["matrix"])):
+            ctrl.matrix_world = Matrix(M.tolist())
+            for path in ("location", "rotation_euler", "scale"):
+                ctrl.keyframe_insert(path, frame=frame)
 
+    sc.frame_start, sc.frame_end = 1, EDIT_FRAME
+    sc.frame_set(EDIT_FRAME)
     render.setup_render(sc, 640, 480)
     render.add_camera(sc, np.vstack([V, setup["targets"]]), *scene["view"], aspect=640 / 480)
     sc["edge_deform_title"] = scene["title"]
