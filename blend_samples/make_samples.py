@@ -31,11 +31,9 @@ def enable_addon():
     if hasattr(bpy.types.Object, "edge_deform"):
         return "already registered"
     import addon_utils
-    try:
+    if any(m.__name__ == "edge_deform" for m in addon_utils.modules()):
         if addon_utils.enable("edge_deform", default_set=True) is not None:
             return "installed add-on"
-    except Exception:                    # not installed: fall back to the source tree
-        pass
     src = os.path.join(REPO, "addon")
     if os.path.exists(os.path.join(src, "edge_deform", "__init__.py")):
         sys.path.insert(0, src)
@@ -90,7 +88,7 @@ def build_scene(scene):
         if have_settings:
             item = s.handles.add()
             item.vertex_group, item.controller = "handle_" + h["name"], ctrl
-            item.rest_matrix = rest.T.ravel().tolist()   # the property is column-major
+            item.rest_matrix = Matrix(rest.tolist())   # as the add-on stores it
         # Keyed: rest at frame 1, the edit at EDIT_FRAME (the frame the file opens on), so
         # Bind at frame 1 (which records the rest) and the edit both stay reachable.
         for frame, M in ((1, rest), (EDIT_FRAME, h["matrix"])):

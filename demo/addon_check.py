@@ -69,10 +69,8 @@ def _enable_addon():
     import bpy
     if hasattr(bpy.types.Object, "edge_deform"):
         return
-    try:
+    if any(m.__name__ == "edge_deform" for m in addon_utils.modules()):   # installed
         addon_utils.enable("edge_deform", default_set=True)
-    except Exception:
-        pass
     if not hasattr(bpy.types.Object, "edge_deform"):     # development tree
         sys.path[:0] = [os.environ.get("EDGEDEFORM_MODULE_PATH", ""), os.path.join(REPO, "addon")]
         import edge_deform
