@@ -1,0 +1,143 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "edgedeform/deformer.h"
+#include "test_meshes.h"
+
+using namespace edgedeform;
+
+namespace {
+
+// The dinosaur with its lowest 20% static and its top 10% as the handle.
+struct LiftSetup {
+  test::TestMesh mesh = test::read_off("cgal_dino.off");
+  std::vector<int> low, high;
+  LiftSetup() {
+    const Eigen::VectorXd z = mesh.V.col(2);
+    const double zmin = z.minCoeff(), zmax = z.maxCoeff();
+    for (int v = 0; v < z.size(); ++v) {
+      if (z(v) < zmin + 0.2 * (zmax - zmin)) low.push_back(v);
+      if (z(v) > zmin + 0.9 * (zmax - zmin)) high.push_back(v);
+    }
+  }
+  RowMatrixX3d rows(const RowMatrixX3d& X, const std::vector<int>& idx) const {
+    RowMatrixX3d out(idx.size(), 3);
+    for (size_t k = 0; k < idx.size(); ++k) out.row(k) = X.row(idx[k]);
+    return out;
+  }
+};
+
+class DeformerBothDomains : public ::testing::TestWithParam<std::tuple<Domain, double>> {};
+
+}  // namespace
+
+TEST_P(DeformerBothDomains, ZeroDisplacementReturnsTheRestShape) {
+  const auto [domain, lambda] = GetParam();
+  LiftSetup s;
+  Deformer d(s.mesh.V, s.mesh.F, domain);
+  d.set_constraints({s.high, s.low, std::nullopt});
+  d.set_stiffness(lambda);
+  SolveOptions o;
+  o.max_iterations = 3;
+  const SolveResult r = d.solve(s.rows(s.mesh.V, s.high), o);
+  EXPECT_LT((r.positions - s.mesh.V).norm(), 1e-9 * s.mesh.V.norm());
+}
+
+TEST_P(DeformerBothDomains, RigidlyMovedShapeIsAFixedPoint) {
+  const auto [domain, lambda] = GetParam();
+  LiftSetup s;
+  std::vector<int> handles = s.high;
+  handles.insert(handles.end(), s.low.begin(), s.low.end());
+  const Eigen::Matrix3d Q = Eigen::AngleAxisd(0.9, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  const RowMatrixX3d moved = (s.mesh.V * Q.transpose()).rowwise() + Eigen::RowVector3d(0.3, -1, 2);
+  Deformer d(s.mesh.V, s.mesh.F, domain);
+  d.set_constraints({handles, {}, std::nullopt});
+  d.set_stiffness(lambda);
+  SolveOptions o;
+  o.max_iterations = 3;
+  o.initial = moved;
+  const SolveResult r = d.solve(s.rows(moved, handles), o);
+  EXPECT_LT((r.positions - moved).norm(), 1e-9 * moved.norm());
+  EXPECT_TRUE(r.converged);
+}
+
+INSTANTIATE_TEST_SUITE_P(LambdaAndDomain, DeformerBothDomains,
+                         ::testing::Combine(::testing::Values(Domain::Edge, Domain::Primal),
+                                            ::testing::Values(0.0, 0.5, 1.0)));
+
+TEST(Deformer, HandlesSitOnTargetsAndStaticStaysAtRest) {
+  LiftSetup s;
+  Deformer d(s.mesh.V, s.mesh.F, Domain::Edge);
+  d.set_constraints({s.high, s.low, std::nullopt});
+  RowMatrixX3d targets = s.rows(s.mesh.V, s.high);
+  targets.col(2).array() += 0.4;
+  SolveOptions o;
+  o.max_iterations = 5;
+  const SolveResult r = d.solve(targets, o);
+  EXPECT_EQ(s.rows(r.positions, s.high), targets);
+  EXPECT_EQ(s.rows(r.positions, s.low), s.rows(s.mesh.V, s.low));
+  EXPECT_GT((r.positions - s.mesh.V).cwiseAbs().maxCoeff(), 0.1);
+}
+
+TEST(Deformer, RigidEnergyNeverIncreases) {
+  LiftSetup s;
+  for (Domain domain : {Domain::Edge, Domain::Primal}) {
+    Deformer d(s.mesh.V, s.mesh.F, domain);
+    d.set_constraints({s.high, s.low, std::nullopt});
+    d.set_stiffness(1.0);
+    RowMatrixX3d targets = s.rows(s.mesh.V, s.high);
+    targets.col(2).array() += 0.6;
+    SolveOptions o;
+    o.max_iterations = 30;
+    o.tolerance = 0.0;
+    const SolveResult r = d.solve(targets, o);
+    for (size_t k = 1; k < r.energies.size(); ++k) EXPECT_LE(r.energies[k], r.energies[k - 1] * (1 + 1e-12));
+  }
+}
+
+TEST(Deformer, ChangingStiffnessKeepsTheSymbolicAnalysis) {
+  LiftSetup s;
+  Deformer d(s.mesh.V, s.mesh.F, Domain::Edge);
+  d.set_constraints({s.high, s.low, std::nullopt});
+  const RowMatrixX3d targets = s.rows(s.mesh.V, s.high);
+  SolveOptions o;
+  o.max_iterations = 1;
+  d.set_stiffness(0.2);
+  d.solve(targets, o);
+  d.set_stiffness(0.7);
+  const SolveResult r = d.solve(targets, o);
+  EXPECT_GT(r.factor_ms, 0.0);
+  EXPECT_EQ(d.analyses(), 1);
+}
+
+TEST(Deformer, FailedCallsLeaveItUsable) {
+  LiftSetup s;
+  Deformer d(s.mesh.V, s.mesh.F, Domain::Edge);
+  d.set_constraints({s.high, s.low, std::nullopt});
+  EXPECT_THROW(d.set_constraints({{}, s.low, std::nullopt}), std::invalid_argument);
+  EXPECT_THROW(d.set_constraints({{s.low[0]}, s.low, std::nullopt}), std::invalid_argument);
+  EXPECT_THROW(d.set_stiffness(1.5), std::invalid_argument);
+  EXPECT_THROW(d.solve(RowMatrixX3d::Zero(2, 3), SolveOptions{}), std::invalid_argument);
+  const SolveResult r = d.solve(s.rows(s.mesh.V, s.high), SolveOptions{});
+  EXPECT_LT((r.positions - s.mesh.V).norm(), 1e-9 * s.mesh.V.norm());
+}
+
+TEST(Deformer, RegionOfInterestLimitsTheActiveTerms) {
+  LiftSetup s;
+  // ROI: the handle plus everything within a band below it.
+  const Eigen::VectorXd z = s.mesh.V.col(2);
+  std::vector<int> roi;
+  for (int v = 0; v < z.size(); ++v)
+    if (z(v) > z.minCoeff() + 0.75 * (z.maxCoeff() - z.minCoeff())) roi.push_back(v);
+  Deformer d(s.mesh.V, s.mesh.F, Domain::Edge);
+  d.set_constraints({s.high, {}, roi});
+  RowMatrixX3d targets = s.rows(s.mesh.V, s.high);
+  targets.col(2).array() += 0.2;
+  const SolveResult r = d.solve(targets, SolveOptions{});
+  EXPECT_LT(r.active_nodes, d.graph().n_nodes / 2);
+  std::vector<bool> in_roi(z.size(), false);
+  for (int v : roi) in_roi[v] = true;
+  for (int v = 0; v < z.size(); ++v)
+    if (!in_roi[v]) EXPECT_EQ(r.positions.row(v), s.mesh.V.row(v));
+}

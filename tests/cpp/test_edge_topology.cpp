@@ -1,0 +1,49 @@
+#include <gtest/gtest.h>
+
+#include "edgedeform/edge_topology.h"
+#include "test_meshes.h"
+
+using namespace edgedeform;
+
+TEST(EdgeTopology, TetrahedronHasSixInteriorEdges) {
+  const auto m = test::tetrahedron();
+  const auto t = build_edge_topology(m.F, 4);
+  ASSERT_EQ(t.edges.rows(), 6);
+  for (Eigen::Index e = 0; e < 6; ++e) {
+    EXPECT_LT(t.edges(e, 0), t.edges(e, 1));
+    EXPECT_EQ(t.face_count(e), 2);
+  }
+}
+
+TEST(EdgeTopology, FaceEdgeIsOppositeItsCorner) {
+  const auto m = test::grid(5, 4);
+  const auto t = build_edge_topology(m.F, static_cast<int>(m.V.rows()));
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int e = t.face_edges(f, k);
+      const int a = m.F(f, (k + 1) % 3), b = m.F(f, (k + 2) % 3);
+      EXPECT_EQ(t.edges(e, 0), std::min(a, b));
+      EXPECT_EQ(t.edges(e, 1), std::max(a, b));
+    }
+}
+
+TEST(EdgeTopology, EulerCountOnAGrid) {
+  const auto m = test::grid(6, 5);
+  const auto t = build_edge_topology(m.F, static_cast<int>(m.V.rows()));
+  // V - E + F = 1 for a disc.
+  EXPECT_EQ(m.V.rows() - t.edges.rows() + m.F.rows(), 1);
+  int boundary = 0;
+  for (Eigen::Index e = 0; e < t.edges.rows(); ++e) boundary += t.face_count(e) == 1;
+  EXPECT_EQ(boundary, 2 * (6 - 1) + 2 * (5 - 1));
+}
+
+TEST(EdgeTopology, NonManifoldEdgeIsNamed) {
+  RowMatrixX3i F(3, 3);
+  F << 0, 1, 2, 1, 0, 3, 0, 1, 4;
+  try {
+    build_edge_topology(F, 5);
+    FAIL() << "expected a non-manifold error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("(0, 1)"), std::string::npos);
+  }
+}

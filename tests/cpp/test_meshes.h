@@ -1,0 +1,79 @@
+// Small meshes for the C++ tests: procedural ones, and an OFF reader for tests/data.
+#pragma once
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "edgedeform/types.h"
+
+namespace edgedeform::test {
+
+struct TestMesh {
+  RowMatrixX3d V;
+  RowMatrixX3i F;
+};
+
+// An nx x ny grid on [0,1]^2 (z = bump * sin), split into triangles along alternating diagonals.
+inline TestMesh grid(int nx, int ny, double bump = 0.0) {
+  TestMesh m;
+  m.V.resize(nx * ny, 3);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const double x = double(i) / (nx - 1), y = double(j) / (ny - 1);
+      m.V.row(j * nx + i) << x, y, bump * std::sin(3.0 * x) * std::cos(2.0 * y);
+    }
+  m.F.resize(2 * (nx - 1) * (ny - 1), 3);
+  int f = 0;
+  for (int j = 0; j + 1 < ny; ++j)
+    for (int i = 0; i + 1 < nx; ++i) {
+      const int a = j * nx + i, b = a + 1, c = a + nx, d = c + 1;
+      if ((i + j) % 2 == 0) {
+        m.F.row(f++) << a, b, d;
+        m.F.row(f++) << a, d, c;
+      } else {
+        m.F.row(f++) << a, b, c;
+        m.F.row(f++) << b, d, c;
+      }
+    }
+  return m;
+}
+
+inline TestMesh tetrahedron() {
+  TestMesh m;
+  m.V.resize(4, 3);
+  m.V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1;
+  m.F.resize(4, 3);
+  m.F << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
+  return m;
+}
+
+// Reads the vertex and triangle lines of an OFF/COFF file in tests/data.
+inline TestMesh read_off(const std::string& name) {
+  std::ifstream in(std::string(EDGEDEFORM_TEST_DATA) + "/" + name);
+  if (!in) throw std::runtime_error("cannot open test mesh " + name);
+  std::string header;
+  in >> header;
+  int n = 0, m = 0, e = 0;
+  in >> n >> m >> e;
+  TestMesh mesh;
+  mesh.V.resize(n, 3);
+  std::string line;
+  std::getline(in, line);
+  for (int v = 0; v < n; ++v) {
+    std::getline(in, line);
+    std::istringstream s(line);
+    s >> mesh.V(v, 0) >> mesh.V(v, 1) >> mesh.V(v, 2);
+  }
+  mesh.F.resize(m, 3);
+  for (int f = 0; f < m; ++f) {
+    int k = 0;
+    in >> k >> mesh.F(f, 0) >> mesh.F(f, 1) >> mesh.F(f, 2);
+    std::getline(in, line);
+  }
+  return mesh;
+}
+
+}  // namespace edgedeform::test
