@@ -102,17 +102,17 @@ def region_metrics(V, F, X, mask, edges=None, faces=None):
             "mean_dihedral_change": float(np.abs(angle(X) - angle(V)).mean()) if f.size else None}
 
 
-def painted_regions(V, F, cells, materials):
-    """For each painted material: its metrics in the painted cell and in the uniform edge-domain
-    cells, the uniform λ whose local strain and bending are nearest, and the mean vertex
-    distance to each uniform result."""
+def painted_regions(V, F, cells, materials, free):
+    """For each painted material (its free vertices only; `free` is a (n,) bool mask): its
+    metrics in the painted cell and in the uniform edge-domain cells, the uniform λ whose local
+    strain and bending are nearest, and the mean vertex distance to each uniform result."""
     edges, faces = mesh_edges(F)
     by_key = {c["key"]: c for c in cells}
     painted = by_key["painted_edge"]["positions"]
     out = []
     for label, mat in materials.items():
-        mask = mat["mask"]
-        if not mask.any():
+        mask = mat["mask"] & free
+        if mask.sum() < 3:      # e.g. a material painted only on static vertices
             continue
         row = {"region": label, "lambda": mat["value"], "vertices": int(mask.sum()),
                "painted": region_metrics(V, F, painted, mask, edges, faces), "uniform": {},

@@ -14,6 +14,7 @@ import sys
 import time
 
 import bpy
+import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
@@ -86,18 +87,21 @@ def main(argv):
         cells = deform.run_cells(ed, V, F, setup, args.max_iterations, args.tolerance,
                                  args.repeat)
         materials = regions.material_regions(scene_def, V)
-        painted = deform.painted_regions(V, F, cells, materials)
+        free = np.ones(len(V), bool)
+        free[setup["handle_index"]] = free[setup["static"]] = False
+        painted = deform.painted_regions(V, F, cells, materials, free)
 
         sc, cameras = sheet.build(scene_def, V, F, setup, cells, width, height)
         images = sheet.render_cells(sc, cameras, cell_dir, scene_def["name"])
         sheet_path = os.path.join(out, "%s_sheet.png" % scene_def["name"])
         boxes = sheet.compose(images, sheet_path)
+        small = sheet.small_copy(sheet_path, sheet_path.replace("_sheet.png", "_sheet_small.jpg"))
 
         sample = {"name": scene_def["name"], "title": scene_def["title"],
                   "mesh": scene_def["mesh"], "vertices": len(V), "faces": len(F),
                   "handle_vertices": len(setup["handle_index"]),
                   "static_vertices": len(setup["static"]),
-                  "sheet": sheet_path, "sheet_cells": boxes,
+                  "sheet": sheet_path, "sheet_small": small, "sheet_cells": boxes,
                   "cells": [{k: v for k, v in c.items() if k != "positions"} for c in cells],
                   "painted_regions": painted}
         if check is not None:

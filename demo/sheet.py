@@ -31,6 +31,17 @@ def cell_label(key, cell, letter):
     return "%s\n%d it%s  %.0f ms" % (head, cell["iterations"], conv, cell["ms"])
 
 
+def frame_points(V, cells, limit=2.5):
+    """Points the view must hold: the rest shape and every result that stays within `limit`
+    rest radii of the rest centre (a result that blew up would shrink all others to dots;
+    it is then drawn clipped, and its metrics say what happened)."""
+    c = V.mean(0)
+    r = np.linalg.norm(V - c, axis=1).max()
+    keep = [x["positions"] for x in cells
+            if np.linalg.norm(x["positions"] - c, axis=1).max() <= limit * r]
+    return np.vstack([V] + keep)
+
+
 def build(scene_def, V, F, setup, cells, width, height):
     """Make a Blender scene holding the rest shape and every cell side by side; returns
     (scene, {key: (collection, camera)})."""
@@ -39,7 +50,7 @@ def build(scene_def, V, F, setup, cells, width, height):
     sc["edge_deform_title"] = scene_def["title"]
     aspect = width / height
     by_key = {c["key"]: c for c in cells}
-    everything = np.vstack([V] + [c["positions"] for c in cells])
+    everything = frame_points(V, cells)
     right, up, _ = render.view_basis(*scene_def["view"])
     hidx, static, lam = setup["handle_index"], setup["static"], setup["stiffness"]
     painted_colours = render.vertex_colours(len(V), hidx, static, lam)
@@ -113,3 +124,18 @@ def compose(images, path):
             boxes[key] = [x, y, w, h]
     png.write_png(path, sheet)
     return boxes
+
+
+def small_copy(png_path, jpg_path, width=820, quality=82):
+    """A downscaled JPEG of a sheet, small enough to commit under docs/img."""
+    img = bpy.data.images.load(png_path)
+    w, h = img.size
+    img.scale(width, max(1, round(h * width / w)))
+    sc = bpy.data.scenes.new("_jpeg")
+    sc.render.image_settings.file_format = "JPEG"
+    sc.render.image_settings.quality = quality
+    sc.view_settings.view_transform = "Standard"
+    img.save_render(jpg_path, scene=sc)
+    bpy.data.scenes.remove(sc)
+    bpy.data.images.remove(img)
+    return jpg_path

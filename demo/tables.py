@@ -39,8 +39,8 @@ def sample_markdown(sample):
     out.append("|" + "---|" * len(head))
     out += [cell_row(c) for c in sample["cells"]]
     if sample.get("painted_regions"):
-        out += ["", "Painted materials, per region (edge domain; strain and bending over the "
-                "edges inside the region; distance = mean vertex distance to the uniform result):",
+        out += ["", "Painted materials, per region (edge domain; free vertices only; strain and "
+                "bending over the edges inside the region; distance = mean vertex distance to the uniform result):",
                 "", "| region | λ | vertices | painted strain | uniform 0 / 0.5 / 1 strain | "
                 "painted bending (°) | uniform 0 / 0.5 / 1 bending (°) | distance to uniform "
                 "0 / 0.5 / 1 | nearest by shape | nearest by position |", "|---|---|---|---|---|---|---|---|---|---|"]
