@@ -38,6 +38,18 @@ def import_edgedeform(module_path):
     return edgedeform
 
 
+def clean(out):
+    """Remove what an earlier run wrote, so that checks never pass on stale files."""
+    import glob
+    import shutil
+    for pattern in ("metrics.json", "metrics.md", "*_sheet.png", "*_sheet_small.jpg",
+                    "edgedeform_results.blend", "edgedeform_results.blend1"):
+        for path in glob.glob(os.path.join(out, pattern)):
+            os.remove(path)
+    for sub in ("cells", "addon_check"):
+        shutil.rmtree(os.path.join(out, sub), ignore_errors=True)
+
+
 def parse(argv):
     ap = argparse.ArgumentParser(prog="run_demo.py", description=__doc__.split("\n")[0])
     ap.add_argument("--out", default=os.path.join(REPO, "demo_out"))
@@ -52,6 +64,8 @@ def parse(argv):
     ap.add_argument("--samples-dir", default=None,
                     help="sample .blend files for the add-on check (default: make them in OUT)")
     ap.add_argument("--no-addon-check", action="store_true")
+    ap.add_argument("--clean", action="store_true",
+                    help="first delete this demo's earlier outputs in OUT (and only those)")
     args = ap.parse_args(argv)
     if args.ci:
         args.samples = args.samples or [CI_SAMPLE]
@@ -65,6 +79,8 @@ def main(argv):
     ed = import_edgedeform(args.module_path)
     width, height = (int(v) for v in args.cell.lower().split("x"))
     out = os.path.abspath(args.out)
+    if args.clean:
+        clean(out)
     cell_dir = os.path.join(out, "cells")
     os.makedirs(cell_dir, exist_ok=True)
     scenes = [s for s in regions.load_scenes() if not args.samples or s["name"] in args.samples]
