@@ -44,27 +44,28 @@ def long_axis(V):
     return int(np.argmax(np.ptp(V, axis=0)))
 
 
-def lift(V, amount=0.25, static_frac=0.2, handle_frac=0.1):
+def lift(V, amount=0.25, static_frac=0.2, handle_frac=0.1, direction=None):
     """The benchmark's "lift": lowest static_frac of the height static, top handle_frac
-    raised by amount * bbox diagonal. Returns handles, static, targets."""
+    raised by amount * bbox diagonal (along the height, or along axis `direction`).
+    Returns handles, static, targets."""
     ax = up_axis(V)
     h = V[:, ax]
     static = np.flatnonzero(h <= np.quantile(h, static_frac))
     handles = np.flatnonzero(h >= np.quantile(h, 1.0 - handle_frac))
     targets = V[handles].copy()
-    targets[:, ax] += amount * diag(V)
+    targets[:, ax if direction is None else direction] += amount * diag(V)
     return handles, static, targets
 
 
-def bend(V, degrees=20.0, static_frac=0.2, handle_frac=0.1):
+def bend(V, degrees=20.0, static_frac=0.2, handle_frac=0.1, about=None):
     """Static at one end of the longest axis, the other end rotated about its own
-    centroid (a moderate twist/bend edit)."""
+    centroid around axis `about` (default: the next coordinate axis)."""
     ax = long_axis(V)
     h = V[:, ax]
     static = np.flatnonzero(h <= np.quantile(h, static_frac))
     handles = np.flatnonzero(h >= np.quantile(h, 1.0 - handle_frac))
     c = V[handles].mean(axis=0)
-    R = rotation((ax + 1) % 3, degrees)
+    R = rotation((ax + 1) % 3 if about is None else about, degrees)
     targets = (V[handles] - c) @ R.T + c
     return handles, static, targets
 

@@ -13,8 +13,14 @@ STEPS = (1, 2, 5, 20)
 
 
 def _edits(V):
-    return {"lift": lift(V, amount=0.15, static_frac=0.35, handle_frac=0.15),
-            "bend": bend(V, degrees=40.0, static_frac=0.3, handle_frac=0.15)}
+    # Out of the plane for the flat mesh (normal y): an in-plane edit of a flat mesh is
+    # a symmetric saddle of ARAP, where round-off alone decides whether an iteration
+    # buckles out of the plane, so two correct solvers may part ways there.
+    flat = np.ptp(V[:, 1]) == 0
+    return {"lift": lift(V, amount=0.15, static_frac=0.35, handle_frac=0.15,
+                         direction=1 if flat else None),
+            "bend": bend(V, degrees=40.0, static_frac=0.3, handle_frac=0.15,
+                         about=2 if flat else None)}
 
 
 @pytest.mark.parametrize("edit", ["lift", "bend"])

@@ -1,0 +1,184 @@
+#!/usr/bin/env python3
+"""Core solver benchmark: precompute and per-iteration cost, iterations to converge.
+
+For meshes of about 1k, 10k, 50k and 140k vertices, both domains, lambda in {0, 0.5, 1},
+on a "lift" edit: the lowest 20% of the height static, the top 10% raised by a quarter of
+the bounding-box diagonal. Height is the z coordinate, unless the mesh is flat in z
+(extent below 1% of the diagonal), then the axis of largest extent. (None of the meshes
+below is flat in z, so all of them are lifted along z.)
+
+    PYTHONPATH=build/python /usr/bin/python3 bench/bench_core.py [--sizes 1k,10k]
+        [--max-iterations 300] [--markdown docs/benchmarks.md]
+
+Prints a table, merges its rows into bench/results/core.json (rows of other sizes are
+kept, so sizes can be run one at a time) and, with --markdown, rewrites its own section
+of that file.
+"""
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from machine import machine_info  # noqa: E402
+from md_section import replace_section  # noqa: E402
+
+MESHES = "/work/shared/meshes"
+SIZES = {  # read straight from the shared folder; the big ones are not copied
+    "1k": "spot_low_resolution.obj",
+    "10k": "blub_fish.obj",
+    "50k": "koala.obj",
+    "140k": "nefertiti_loop1.ply",
+}
+LAMBDAS = (0.0, 0.5, 1.0)
+DOMAINS = ("edge", "primal")
+
+
+def up_axis(V):
+    ext = np.ptp(V, axis=0)
+    return 2 if ext[2] > 0.01 * np.linalg.norm(ext) else int(np.argmax(ext))
+
+
+def lift_edit(V):
+    ax = up_axis(V)
+    h = V[:, ax]
+    static = np.flatnonzero(h <= np.quantile(h, 0.2))
+    handles = np.flatnonzero(h >= np.quantile(h, 0.9))
+    targets = V[handles].copy()
+    targets[:, ax] += 0.25 * float(np.linalg.norm(np.ptp(V, axis=0)))
+    return handles, static, targets, ax
+
+
+def run_one(ed, V, F, edit, domain, lam, max_iterations, tolerance):
+    handles, static, targets, _ = edit
+    t0 = time.perf_counter()
+    d = ed.Deformer(V, F, domain=domain)
+    d.set_constraints(handles=handles, static=static, roi=None)
+    d.set_stiffness(lam)
+    construct_ms = (time.perf_counter() - t0) * 1e3
+    t0 = time.perf_counter()
+    r = d.solve(targets, max_iterations=max_iterations, tolerance=tolerance)
+    wall_ms = (time.perf_counter() - t0) * 1e3
+    its = int(r.iterations)
+    row = {
+        "domain": domain, "lambda": lam, "nodes": int(d.n_nodes),
+        "free_vertices": int(r.free_vertices), "active_nodes": int(r.active_nodes),
+        "construct_ms": construct_ms, "factor_ms": float(r.factor_ms),
+        "precompute_ms": construct_ms + float(r.factor_ms),
+        "iterations": its, "converged": bool(r.converged),
+        "local_ms_per_it": float(r.local_ms) / its,
+        "rhs_ms_per_it": float(r.rhs_ms) / its,
+        "solve_ms_per_it": float(r.solve_ms) / its,
+        "solve_wall_ms": wall_ms,
+        "final_energy": float(r.energies[-1]),
+        "finite": bool(np.all(np.isfinite(r.positions))),
+    }
+    row["ms_per_it"] = row["local_ms_per_it"] + row["rhs_ms_per_it"] + row["solve_ms_per_it"]
+    # Numeric refactorization when only lambda changes (symbolic analysis kept).
+    d.set_stiffness(0.25 if lam != 0.25 else 0.75)
+    r2 = d.solve(targets, max_iterations=1, tolerance=tolerance)
+    row["refactor_ms"] = float(r2.factor_ms)
+    return row
+
+
+def table(rows):
+    head = ("| size | mesh | vertices | domain | λ | nodes | precompute ms | refactor ms "
+            "| local ms/it | rhs ms/it | solve ms/it | ms/it | iterations |")
+    lines = [head, "|" + "---|" * (head.count("|") - 1)]
+    for r in rows:
+        its = f"{r['iterations']}" + ("" if r["converged"] else " (not conv.)")
+        lines.append(
+            f"| {r['size']} | {r['mesh']} | {r['vertices']:,} | {r['domain']} | {r['lambda']:g} "
+            f"| {r['nodes']:,} | {r['precompute_ms']:.0f} | {r['refactor_ms']:.0f} "
+            f"| {r['local_ms_per_it']:.2f} | {r['rhs_ms_per_it']:.2f} "
+            f"| {r['solve_ms_per_it']:.2f} | {r['ms_per_it']:.2f} | {its} |")
+    return "\n".join(lines)
+
+
+def markdown(result):
+    m = result["machine"]
+    bi = result.get("build_info", {})
+    rows = sorted(result["rows"], key=lambda r: (list(SIZES).index(r["size"]),
+                                                 DOMAINS.index(r["domain"]), r["lambda"]))
+    target = [r for r in rows if r["size"] == "50k" and r["domain"] == "edge"
+              and r["lambda"] == 0.5]
+    verdict = ""
+    if target:
+        t = target[0]
+        ok_pre = t["precompute_ms"] <= 1500
+        ok_it = t["ms_per_it"] <= 40
+        verdict = (f"\nTargets at 50k vertices, edge domain, λ = 0.5: precompute ≤ 1.5 s — "
+                   f"measured {t['precompute_ms'] / 1e3:.2f} s ({'met' if ok_pre else 'MISSED'}); "
+                   f"≤ 40 ms per iteration — measured {t['ms_per_it']:.1f} ms "
+                   f"({'met' if ok_it else 'MISSED'}).\n")
+    return f"""## Core solver (bench/bench_core.py)
+
+Machine: {m['cpu']}, {m['cores']} cores (shared). Date: {m['date']}.
+Build: solver `{bi.get('solver', '?')}`, OpenMP {bi.get('openmp', '?')}, threads {bi.get('threads', '?')}.
+
+Edit "lift": lowest 20 % of the height static, top 10 % raised by ¼ of the bounding-box
+diagonal; height = z (no mesh here is flat in z). Tolerance {result['tolerance']:g} on the
+relative energy change, at most {result['max_iterations']} iterations, naive-Laplacian start.
+Precompute = Deformer construction (graph, weights) + the first solve's assembly and
+factorization; refactor = factorization again after only λ changed; ms/it = local step +
+right-hand side + back-substitution, averaged over the lift's iterations.
+
+{table(rows)}
+{verdict}
+Command: `{result['command']}`
+"""
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--sizes", default=",".join(SIZES), help="comma list of " + ",".join(SIZES))
+    p.add_argument("--domains", default=",".join(DOMAINS))
+    p.add_argument("--lambdas", default=",".join(map(str, LAMBDAS)))
+    p.add_argument("--max-iterations", type=int, default=300)
+    p.add_argument("--tolerance", type=float, default=1e-4)
+    p.add_argument("--json", default=str(HERE / "results" / "core.json"))
+    p.add_argument("--markdown", default=None, help="update this file's core section")
+    args = p.parse_args(argv)
+
+    import edgedeform as ed
+    from edgedeform.mesh_io import read_mesh
+
+    sizes = [s for s in args.sizes.split(",") if s]
+    for s in sizes:
+        if s not in SIZES:
+            p.error(f"unknown size {s!r}")
+    out = Path(args.json)
+    result = json.loads(out.read_text()) if out.exists() else {"rows": []}
+    result.update({"machine": machine_info(), "build_info": dict(ed.build_info()),
+                   "tolerance": args.tolerance, "max_iterations": args.max_iterations,
+                   "command": "bench/bench_core.py " + " ".join(argv or sys.argv[1:])})
+    for size in sizes:
+        V, F = read_mesh(f"{MESHES}/{SIZES[size]}")
+        edit = lift_edit(V)
+        for domain in args.domains.split(","):
+            for lam in map(float, args.lambdas.split(",")):
+                row = run_one(ed, V, F, edit, domain, lam, args.max_iterations, args.tolerance)
+                row.update({"size": size, "mesh": SIZES[size], "vertices": len(V),
+                            "faces": len(F), "up_axis": "xyz"[edit[3]]})
+                result["rows"] = [r for r in result["rows"]
+                                  if (r["size"], r["domain"], r["lambda"])
+                                  != (size, domain, lam)] + [row]
+                print(table([row]).splitlines()[-1], flush=True)
+                out.parent.mkdir(parents=True, exist_ok=True)
+                out.write_text(json.dumps(result, indent=1))   # keep partial results
+    print()
+    print(table(sorted(result["rows"], key=lambda r: (list(SIZES).index(r["size"]),
+                                                      r["domain"], r["lambda"]))))
+    if args.markdown:
+        replace_section(args.markdown, "core-bench", markdown(result))
+        print(f"\nupdated {args.markdown}")
+
+
+if __name__ == "__main__":
+    main()
