@@ -217,20 +217,21 @@ AssembledSystem assemble_system(const ConstrainedSystem& sys, const Eigen::Vecto
     out.A += out.B2 * sys.J2f;
   }
 
-  // H: column block k (0..2) carries R(d,k) through the 1-form term, block 3+k carries
-  // s R(d,k) through the Laplacian term.
+  // H: column 6t+k (k = 0..2) carries R_t(d,k) through the 1-form term, column 6t+3+k
+  // carries s_t R_t(d,k) through the Laplacian term. A term's six columns are adjacent, so
+  // a row of the product reads Z in a few cache lines per term.
   std::vector<Eigen::Triplet<double>> h;
   h.reserve(static_cast<size_t>(3 * (out.B1.nonZeros() + out.B2.nonZeros())));
   for (int t = 0; t < T; ++t) {
     for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a) {
       if (w1(a) == 0.0) continue;
       for (SparseMatrix::InnerIterator it(out.B1, a); it; ++it)
-        for (int k = 0; k < 3; ++k) h.emplace_back(static_cast<int>(it.row()), k * T + t, it.value() * st.rest_edge(a, k));
+        for (int k = 0; k < 3; ++k) h.emplace_back(static_cast<int>(it.row()), 6 * t + k, it.value() * st.rest_edge(a, k));
     }
     if (out.laplacian_term && w2(t) != 0.0)
       for (SparseMatrix::InnerIterator it(out.B2, t); it; ++it)
         for (int k = 0; k < 3; ++k)
-          h.emplace_back(static_cast<int>(it.row()), (3 + k) * T + t, it.value() * st.rest_laplacian(t, k));
+          h.emplace_back(static_cast<int>(it.row()), 6 * t + 3 + k, it.value() * st.rest_laplacian(t, k));
   }
   out.H.resize(nf, 6 * T);
   out.H.setFromTriplets(h.begin(), h.end());
@@ -250,8 +251,8 @@ void stack_rotations(const std::vector<Eigen::Matrix3d>& R, const Eigen::VectorX
   for (int t = 0; t < T; ++t)
     for (int k = 0; k < 3; ++k)
       for (int d = 0; d < 3; ++d) {
-        Z(k * T + t, d) = R[static_cast<size_t>(t)](d, k);
-        Z((3 + k) * T + t, d) = s(t) * R[static_cast<size_t>(t)](d, k);
+        Z(6 * t + k, d) = R[static_cast<size_t>(t)](d, k);
+        Z(6 * t + 3 + k, d) = s(t) * R[static_cast<size_t>(t)](d, k);
       }
 }
 

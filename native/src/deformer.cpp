@@ -54,6 +54,7 @@ Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, 
   vertex_lambda_ = Eigen::VectorXd::Constant(V.rows(), 0.5);
   node_lambda_ = node_stiffness(graph_, vertex_lambda_);
   node_rotation_.assign(static_cast<size_t>(graph_.n_nodes), Eigen::Matrix3d::Identity());
+  node_right_vectors_ = node_rotation_;
   node_scale_ = Eigen::VectorXd::Ones(graph_.n_nodes);
 }
 
@@ -116,6 +117,9 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
 
   // Rotations and scales of the first global step.
   LocalFit fit;
+  fit.right_vectors.resize(static_cast<size_t>(T));
+  for (int t = 0; t < T; ++t)
+    fit.right_vectors[static_cast<size_t>(t)] = node_right_vectors_[static_cast<size_t>(sys.term_nodes[static_cast<size_t>(t)])];
   RowMatrixX3d p;
   if (options.initial) {
     for (int k = 0; k < nf; ++k) x_local.row(k) = options.initial->row(sys.free_vertices[static_cast<size_t>(k)]);
@@ -166,6 +170,7 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   for (int t = 0; t < T; ++t) {
     node_rotation_[static_cast<size_t>(sys.term_nodes[static_cast<size_t>(t)])] = fit.rotation[static_cast<size_t>(t)];
     node_scale_(sys.term_nodes[static_cast<size_t>(t)]) = fit.scale(t);
+    node_right_vectors_[static_cast<size_t>(sys.term_nodes[static_cast<size_t>(t)])] = fit.right_vectors[static_cast<size_t>(t)];
   }
   has_previous_ = true;
   return result;

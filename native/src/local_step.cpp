@@ -49,9 +49,10 @@ NodeStencil build_stencil(const NodeGraph& g, const RowMatrixX3d& rest_nodes, co
 // optimal proper rotation is R = v1 u1^T + v2 u2^T + (v1 x v2)(u1 x u2)^T: both U and V
 // are completed to rotations, which is exactly the reflection fix (flip the column of the
 // smallest singular value when det(V U^T) < 0), and it stays well defined when S is rank 2.
-Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& S) {
-  Eigen::Matrix3d A = S;
-  Eigen::Matrix3d V = Eigen::Matrix3d::Identity();
+// Started from the previous iteration's V, the columns are nearly orthogonal already and one
+// sweep usually suffices.
+Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V) {
+  Eigen::Matrix3d A = S * V;
   constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
   for (int sweep = 0; sweep < 12; ++sweep) {
     bool rotated = false;
@@ -95,26 +96,28 @@ Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& S) {
 namespace {
 
 // One term's fit: R_t, s_t and its energy.
-double fit_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int t,
-                Eigen::Matrix3d& R, double& s) {
+double fit_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int t, Eigen::Matrix3d& R,
+                Eigen::Matrix3d& V, double& s) {
   const Eigen::Vector3d pi = p.row(st.self[static_cast<size_t>(t)]).transpose();
   Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
   Eigen::Vector3d laplacian = Eigen::Vector3d::Zero();
   const int begin = st.offsets[static_cast<size_t>(t)], end = st.offsets[static_cast<size_t>(t) + 1];
   for (int a = begin; a < end; ++a) {
-    const double w = st.weight[static_cast<size_t>(a)];
-    const Eigen::Vector3d e = pi - p.row(st.neighbour[static_cast<size_t>(a)]).transpose();
-    S.noalias() += (w * st.rest_edge.row(a).transpose()) * e.transpose();
-    laplacian += w * e;
+    const Eigen::Vector3d we =
+        st.weight[static_cast<size_t>(a)] * (pi - p.row(st.neighbour[static_cast<size_t>(a)]).transpose());
+    S.noalias() += st.rest_edge.row(a).transpose() * we.transpose();
+    laplacian += we;
   }
   const double rest_norm = st.rest_norm(t);
   if (rest_norm > 0.0) {
-    R = closest_rotation(S);
+    R = closest_rotation(S, V);
     s = std::clamp((R * S).trace() / rest_norm, kMinScale, kMaxScale);
   } else {
     R.setIdentity();
     s = 1.0;
   }
+  // The rigid residual in a second pass rather than expanded through S: at a fixed point
+  // the expansion would cancel to round-off of the rest scale instead of ~0.
   double rigid = 0.0;
   if (lambda > 0.0) {
     for (int a = begin; a < end; ++a) {
@@ -133,10 +136,12 @@ void fit_local(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::Vector
   fit.rotation.resize(static_cast<size_t>(T));
   fit.scale.resize(T);
   fit.term_energy.resize(T);
+  if (fit.right_vectors.size() != static_cast<size_t>(T)) fit.right_vectors.assign(static_cast<size_t>(T), Eigen::Matrix3d::Identity());
 #pragma omp parallel for schedule(dynamic, 256) if (T > 1024)
   for (int t = 0; t < T; ++t) {
     double s = 1.0;
-    fit.term_energy(t) = fit_term(st, p, lambda(t), t, fit.rotation[static_cast<size_t>(t)], s);
+    fit.term_energy(t) = fit_term(st, p, lambda(t), t, fit.rotation[static_cast<size_t>(t)],
+                                  fit.right_vectors[static_cast<size_t>(t)], s);
     fit.scale(t) = s;
   }
   fit.energy = fit.term_energy.sum();  // a fixed order: the same energy on every run

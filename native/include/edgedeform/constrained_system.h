@@ -65,7 +65,7 @@ AssembledSystem assemble_system(const ConstrainedSystem& system, const Eigen::Ve
 Eigen::MatrixXd fixed_vertex_rhs(const ConstrainedSystem& system, const AssembledSystem& assembled,
                                  const Eigen::MatrixXd& fixed_positions);
 
-// Z (6 #terms x 3): Z(k T + t, d) = R_t(d,k), Z((3+k) T + t, d) = s_t R_t(d,k).
+// Z (6 #terms x 3): Z(6t + k, d) = R_t(d,k), Z(6t + 3 + k, d) = s_t R_t(d,k).
 void stack_rotations(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
                      RowMatrixX3d& Z);
 

@@ -77,6 +77,7 @@ class Deformer {
   // Warm start: the rotations and scales fitted to the last result, per global node.
   std::vector<Eigen::Matrix3d> node_rotation_;
   Eigen::VectorXd node_scale_;
+  std::vector<Eigen::Matrix3d> node_right_vectors_;  // starts the next SVD of each node
   bool has_previous_ = false;
   mutable std::unique_ptr<NodeStencil> full_stencil_;  // for energy(), built on first use
 };

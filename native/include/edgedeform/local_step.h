@@ -33,6 +33,9 @@ NodeStencil build_stencil(const NodeGraph& graph, const RowMatrixX3d& rest_nodes
 // Result of the local step for every term.
 struct LocalFit {
   std::vector<Eigen::Matrix3d> rotation;  // R_i
+  // Right singular vectors of each S_i: the start of the next fit (reset to I when the
+  // size does not match the stencil).
+  std::vector<Eigen::Matrix3d> right_vectors;
   Eigen::VectorXd scale;                  // s_i
   Eigen::VectorXd term_energy;            // each term's share of E
   double energy = 0.0;                    // E(x) with these R_i, s_i (DESIGN §2)
@@ -44,8 +47,13 @@ constexpr double kMinScale = 1e-2;
 constexpr double kMaxScale = 1e2;
 
 // The rotation R maximizing trace(R S): for S = U Sigma V^T, R = V U^T, with the column of
-// the smallest singular value flipped when det(V U^T) < 0.
-Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& S);
+// the smallest singular value flipped when det(V U^T) < 0. `V` is the starting guess of the
+// right singular vectors (any orthogonal matrix) and returns the converged ones.
+Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V);
+inline Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& S) {
+  Eigen::Matrix3d V = Eigen::Matrix3d::Identity();
+  return closest_rotation(S, V);
+}
 
 // Fits R_i, s_i to `node_positions` for every term (in parallel) and evaluates the energy
 // with term stiffness `term_lambda` (#terms).
