@@ -109,6 +109,7 @@ def main(argv):
     ap.add_argument("--out", default=HERE, help="folder for the .blend files")
     ap.add_argument("--only", nargs="*", help="scene names (default: all)")
     args = ap.parse_args(argv)
+    args.out = os.path.abspath(args.out)   # Blender refuses relative save paths
     os.makedirs(args.out, exist_ok=True)
     print("make_samples: add-on settings from", enable_addon() or "nowhere (add-on missing)")
     for scene in regions.load_scenes():
