@@ -51,6 +51,10 @@ NodeStencil build_stencil(const NodeGraph& g, const RowMatrixX3d& rest_nodes, co
 // smallest singular value when det(V U^T) < 0), and it stays well defined when S is rank 2.
 // Started from the previous iteration's V, the columns are nearly orthogonal already and one
 // sweep usually suffices.
+// Columns count as orthogonal when their cosine is below this: the rotation is then exact to
+// about this relative accuracy, far below what the solver's tolerances can see.
+constexpr double kOrthogonal = 1e-12;
+
 Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V) {
   Eigen::Matrix3d A = S * V;
   constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
@@ -59,7 +63,7 @@ Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V) {
     for (const auto& pair : kPairs) {
       const int p = pair[0], q = pair[1];
       const double alpha = A.col(p).squaredNorm(), beta = A.col(q).squaredNorm(), gamma = A.col(p).dot(A.col(q));
-      if (!(std::abs(gamma) > 1e-15 * std::sqrt(alpha * beta))) continue;
+      if (!(std::abs(gamma) > kOrthogonal * std::sqrt(alpha * beta))) continue;
       rotated = true;
       const double zeta = (beta - alpha) / (2.0 * gamma);
       const double t = (zeta >= 0.0 ? 1.0 : -1.0) / (std::abs(zeta) + std::sqrt(1.0 + zeta * zeta));
