@@ -83,7 +83,8 @@ def make_object(name, V, faces):
 
 def activate(ob):
     for other in bpy.context.view_layer.objects:
-        other.select_set(False)
+        if other is not None:   # (None right after objects were removed)
+            other.select_set(False)
     bpy.context.view_layer.objects.active = ob
     ob.select_set(True)
 

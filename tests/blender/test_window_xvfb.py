@@ -1,0 +1,263 @@
+"""Real-window test (run under Xvfb with --enable-event-simulate).
+
+Drives the modal tools the way a user does, with simulated mouse and key events:
+  live: a scripted controller move re-solves; the wheel changes λ; Tab the domain; G moves
+        the controller through Blender's own transform tool; Esc restores bit-exact;
+        Enter confirms as one undo step and Ctrl+Z (ed.undo) takes it back;
+  grab: in Edit Mode the selected vertices follow the mouse, X constrains the axis, Esc
+        restores, Enter confirms.
+Screenshots go to $EDGEDEFORM_TEST_OUT. Steps run from a bpy.app timer so that Blender's
+event loop handles each simulated event between steps.
+"""
+
+import os
+import sys
+import time
+import traceback
+
+from mathutils import Euler
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from helpers import (OUT, add_group, add_handle, bpy, key_positions, load,  # noqa: E402
+                     make_object, np, positions, register)
+
+STEP = 0.1  # seconds between steps: several 60 Hz ticks of the tools' timers
+
+
+def view3d():
+    win = bpy.context.window_manager.windows[0]
+    area = max((a for a in win.screen.areas if a.type == 'VIEW_3D'),
+               key=lambda a: a.width * a.height)
+    region = [r for r in area.regions if r.type == 'WINDOW'][0]
+    return win, area, region
+
+
+def override():
+    win, area, region = view3d()
+    return bpy.context.temp_override(window=win, area=area, region=region,
+                                     screen=win.screen)
+
+
+def center(dx=0, dy=0):
+    _, _, region = view3d()
+    return region.x + region.width // 2 + dx, region.y + region.height // 2 + dy
+
+
+def event(kind, value='PRESS', at=None, **mods):
+    win = view3d()[0]
+    x, y = at or center()
+    if kind == 'MOUSEMOVE':
+        value = 'NOTHING'
+    win.event_simulate(type=kind, value=value, x=x, y=y, **mods)
+
+
+def tap(kind, at=None, **mods):
+    event(kind, 'PRESS', at, **mods)
+    event(kind, 'RELEASE', at, **mods)
+
+
+def screenshot(name):
+    os.makedirs(OUT, exist_ok=True)
+    path = os.path.join(OUT, name)
+    with override():
+        bpy.ops.screen.screenshot(filepath=path)
+    print("screenshot:", path)
+
+
+def plane():
+    return bpy.data.objects["plane"]
+
+
+def ctrl():
+    return bpy.data.objects["H_ctrl"]
+
+
+def setup():
+    register()
+    for ob in list(bpy.data.objects):
+        bpy.data.objects.remove(ob)
+    V, F = load("cgal_plane.off")
+    ob = make_object("plane", V, F)
+    x = V[:, 0]
+    handle = np.flatnonzero(x > x.max() - 0.1 * np.ptp(x))
+    static = np.flatnonzero(x < x.min() + 0.1 * np.ptp(x))
+    add_group(ob, "H", handle)
+    add_group(ob, "S", static)
+    ob.edge_deform.static_group = "S"
+    add_handle(ob, "H", V[handle].mean(axis=0))
+    # A three-quarter view (the plane lies in XZ) with the add-on's sidebar tab open.
+    win, area, region = view3d()
+    space = area.spaces.active
+    space.show_region_ui = True
+    space.region_3d.view_perspective = 'PERSP'
+    space.region_3d.view_rotation = Euler((1.2, 0.0, 0.5)).to_quaternion()
+    try:
+        [r for r in area.regions if r.type == 'UI'][0].active_panel_category = "Edge Deform"
+    except (AttributeError, TypeError):
+        pass
+    with override():
+        bpy.ops.view3d.view_all()
+    return handle, static
+
+
+def steps():
+    tap('ESC')   # dismiss the splash screen, which would eat the first events
+    yield
+    handle, static = setup()
+    rest = positions(plane().data).copy()
+    yield
+    with override():
+        bpy.ops.ed.undo_push(message="setup")
+
+    # ---------------------------------------------------------------- live, then Esc
+    with override():
+        assert bpy.ops.edge_deform.live('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
+    c0 = ctrl().matrix_world.copy()
+    ctrl().location.z += 0.3          # a script moves the controller
+    yield
+    out = key_positions(plane())
+    assert np.abs(out[handle, 2] - (rest[handle, 2] + 0.3)).max() < 1e-4, "handles follow"
+    assert np.array_equal(out[static], rest[static])
+    tap('WHEELUPMOUSE')
+    yield
+    assert abs(plane().edge_deform.stiffness - 0.55) < 1e-6, "wheel changes λ"
+    tap('TAB')
+    yield
+    assert plane().edge_deform.domain == 'PRIMAL', "Tab toggles the domain"
+    # G on the controller with Blender's transform tool, while live keeps solving.
+    bpy.context.view_layer.objects.active = ctrl()
+    ctrl().select_set(True)
+    plane().select_set(False)
+    event('MOUSEMOVE', at=center())
+    yield
+    tap('G', at=center())
+    yield
+    event('MOUSEMOVE', at=center(60, 0))
+    yield
+    event('MOUSEMOVE', at=center(120, 0))
+    yield
+    tap('RET', at=center(120, 0))
+    yield
+    yield
+    moved_x = ctrl().matrix_world.translation.x - c0.translation.x
+    assert moved_x > 0.05, "G moved the controller (%f)" % moved_x
+    out = key_positions(plane())
+    assert abs((out[handle, 0] - rest[handle, 0]).mean() - moved_x) < 1e-3, \
+        "handles follow a G move"
+    screenshot("live.png")
+    tap('ESC')
+    yield
+    ob = plane()
+    assert ob.data.shape_keys is None, "Esc removed the key it created"
+    assert np.array_equal(positions(ob.data), rest), "Esc restores bit-exact"
+    assert (ob.edge_deform.stiffness, ob.edge_deform.domain) == (0.5, 'EDGE')
+    assert np.allclose(np.array(ctrl().matrix_world), np.array(c0)), "controller restored"
+    print("live + Esc: ok")
+
+    # ---------------------------------------------------------------- live, Enter, undo
+    bpy.context.view_layer.objects.active = plane()
+    plane().select_set(True)
+    with override():
+        bpy.ops.ed.undo_push(message="before live")
+    with override():
+        assert bpy.ops.edge_deform.live('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
+    ctrl().location.z += 0.2
+    yield
+    tap('RET')
+    yield
+    out = key_positions(plane()).copy()
+    assert np.abs(out[handle, 2] - (rest[handle, 2] + 0.2)).max() < 1e-4, "Enter keeps it"
+    with override():
+        bpy.ops.ed.undo()
+    yield
+    ob = plane()   # undo replaces the datablocks: fetch again
+    assert ob.data.shape_keys is None and np.array_equal(positions(ob.data), rest), \
+        "one undo step takes the live session back"
+    with override():
+        bpy.ops.ed.redo()
+    yield
+    assert np.array_equal(key_positions(plane()), out), "redo brings it back"
+    print("live + Enter + undo/redo: ok")
+
+    # ---------------------------------------------------------------- grab in Edit Mode
+    ob = plane()
+    ob.shape_key_clear()
+    ob.data.update()
+    sel = np.zeros(len(rest), bool)
+    sel[handle] = True
+    ob.data.vertices.foreach_set("select", sel)
+    for items in (ob.data.edges, ob.data.polygons):
+        items.foreach_set("select", np.zeros(len(items), bool))
+    bpy.context.view_layer.objects.active = ob
+    with override():
+        bpy.ops.object.mode_set(mode='EDIT')
+    event('MOUSEMOVE', at=center())
+    yield
+    with override():
+        assert bpy.ops.edge_deform.grab('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
+    event('MOUSEMOVE', at=center(80, 60))   # diagonal drag, then constrain to X
+    yield
+    free = key_positions(ob)
+    assert np.linalg.norm(free[handle] - rest[handle], axis=1).min() > 0.01, "drag moves"
+    assert np.abs(free[handle, 1:] - rest[handle, 1:]).max() > 0.01, "free, not along X"
+    tap('X', at=center(80, 60))
+    yield
+    out = key_positions(ob)
+    d = out[handle] - rest[handle]
+    assert d[:, 0].min() > 0.01, "dragged right"
+    assert np.abs(d[:, 1:]).max() < 1e-5, "X constraint"
+    assert np.array_equal(out[static], rest[static])
+    others = np.setdiff1d(np.arange(len(rest)), np.union1d(handle, static))
+    assert np.abs(out[others] - rest[others]).max() > 0.01, "the rest follows"
+    screenshot("grab.png")
+    tap('ESC', at=center(80, 60))
+    yield
+    assert ob.mode == 'EDIT', "back in Edit Mode"
+    with override():
+        bpy.ops.object.mode_set(mode='OBJECT')
+    assert ob.data.shape_keys is None and np.array_equal(positions(ob.data), rest), \
+        "Esc restores the grab"
+    with override():
+        bpy.ops.object.mode_set(mode='EDIT')
+    event('MOUSEMOVE', at=center())
+    yield
+    with override():
+        bpy.ops.edge_deform.grab('INVOKE_DEFAULT')
+    event('MOUSEMOVE', at=center(0, 70))
+    yield
+    tap('RET', at=center(0, 70))
+    yield
+    with override():
+        bpy.ops.object.mode_set(mode='OBJECT')
+    out = key_positions(ob)
+    assert np.linalg.norm(out[handle] - rest[handle], axis=1).min() > 0.01, \
+        "Enter keeps the grab"
+    print("grab: ok")
+
+
+def main():
+    gen = steps()
+    started = time.time()
+
+    def tick():
+        try:
+            next(gen)
+        except StopIteration:
+            print("ALL WINDOW TESTS PASSED")
+            sys.stdout.flush()
+            os._exit(0)
+        except Exception:
+            traceback.print_exc()
+            print("WINDOW TEST FAILED")
+            sys.stdout.flush()
+            os._exit(1)
+        if time.time() - started > 120:
+            print("WINDOW TEST TIMED OUT")
+            sys.stdout.flush()
+            os._exit(1)
+        return STEP
+
+    bpy.app.timers.register(tick, first_interval=1.0)
+
+
+main()
