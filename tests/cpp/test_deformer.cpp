@@ -64,7 +64,12 @@ TEST_P(DeformerBothDomains, RigidlyMovedShapeIsAFixedPoint) {
 
 INSTANTIATE_TEST_SUITE_P(LambdaAndDomain, DeformerBothDomains,
                          ::testing::Combine(::testing::Values(Domain::Edge, Domain::Primal),
-                                            ::testing::Values(0.0, 0.5, 1.0)));
+                                            ::testing::Values(0.0, 0.5, 1.0)),
+                         [](const auto& info) {
+                           const double lambda = std::get<1>(info.param);
+                           return std::string(domain_name(std::get<0>(info.param))) + "_lambda" +
+                                  std::to_string(static_cast<int>(lambda * 10));
+                         });
 
 TEST(Deformer, HandlesSitOnTargetsAndStaticStaysAtRest) {
   LiftSetup s;
