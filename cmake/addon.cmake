@@ -1,0 +1,166 @@
+# Blender add-on packaging (issue 3), included by the root CMakeLists.txt.
+#
+#   install_addon    copy the add-on and the built `edgedeform` package into Blender's user
+#                    add-on folder ($BLENDER_USER_SCRIPTS/addons when set, else the folder
+#                    Blender reports), enable the add-on and save the user preferences
+#   addon_zip        build/edge_deform-<ver>-<platform>-cp<py>.zip: Preferences > Add-ons >
+#                    Install (3.4+)
+#   addon_extension  build/edge_deform-<ver>-extension-<platform>.zip: Blender 4.2+ extension
+#
+# The same file runs in script mode (cmake -P) to do the copying at build time, so the
+# targets see the environment (BLENDER_USER_SCRIPTS) of the build command, not of configure.
+
+# ------------------------------------------------------------------ script mode
+if(CMAKE_SCRIPT_MODE_FILE)
+  function(ed_stage dest flat)
+    # flat: the add-on files at the root of `dest` (extension layout), else dest/edge_deform
+    if(flat)
+      set(root ${dest})
+    else()
+      set(root ${dest}/edge_deform)
+    endif()
+    file(REMOVE_RECURSE ${root})
+    file(MAKE_DIRECTORY ${root})
+    file(GLOB items ${ED_ADDON_SRC}/*)
+    file(COPY ${items} DESTINATION ${root} PATTERN __pycache__ EXCLUDE PATTERN *.pyc EXCLUDE)
+    file(COPY ${ED_PKG_DIR} DESTINATION ${root} PATTERN __pycache__ EXCLUDE
+         PATTERN *.pyc EXCLUDE)
+    if(NOT flat)
+      file(REMOVE ${root}/blender_manifest.toml)   # 3.x installs read bl_info only
+    endif()
+  endfunction()
+
+  function(ed_blender_query expr var)
+    execute_process(COMMAND ${ED_BLENDER} -b --factory-startup --python-expr "${expr}"
+                    OUTPUT_VARIABLE out ERROR_VARIABLE err RESULT_VARIABLE rc TIMEOUT 300)
+    if(NOT out MATCHES "EDGEDEFORM_ANSWER=([^\n]*)")
+      message(FATAL_ERROR "Could not ask Blender (${ED_BLENDER}), exit ${rc}:\n${out}\n${err}")
+    endif()
+    set(${var} "${CMAKE_MATCH_1}" PARENT_SCOPE)
+  endfunction()
+
+  if(ED_ACTION STREQUAL "stage")
+    ed_stage(${ED_DEST} ${ED_FLAT})
+  elseif(ED_ACTION STREQUAL "install")
+    ed_blender_query("import sys; print('EDGEDEFORM_ANSWER=%d.%d' % sys.version_info[:2])"
+                     blender_py)
+    if(NOT blender_py STREQUAL ED_MODULE_PY)
+      message(FATAL_ERROR
+        "Blender (${ED_BLENDER}) embeds Python ${blender_py}, but edgedeform was built for "
+        "Python ${ED_MODULE_PY}. Reconfigure with -DPython_EXECUTABLE=<a Python "
+        "${blender_py} interpreter> so that the module matches Blender.")
+    endif()
+    if(NOT "$ENV{BLENDER_USER_SCRIPTS}" STREQUAL "")
+      set(addons "$ENV{BLENDER_USER_SCRIPTS}/addons")
+    else()
+      ed_blender_query(
+        "import bpy; print('EDGEDEFORM_ANSWER=' + bpy.utils.user_resource('SCRIPTS', path='addons'))"
+        addons)
+    endif()
+    ed_stage(${addons} FALSE)
+    message(STATUS "Edge Deform installed in ${addons}/edge_deform")
+    # Enable with the user's own preferences loaded (no --factory-startup), then save them.
+    execute_process(
+      COMMAND ${ED_BLENDER} -b --python-exit-code 1 --python-expr
+        "import addon_utils, bpy, sys
+mod = addon_utils.enable('edge_deform', default_set=True, handle_error=None)
+from edge_deform import native
+native.get()   # the bundled module must load in this Blender
+assert hasattr(bpy.types.Object, 'edge_deform')
+bpy.ops.wm.save_userpref()
+print('EDGEDEFORM_ENABLED', mod.__file__, native.get().__file__)"
+      RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
+    if(NOT rc EQUAL 0 OR NOT out MATCHES "EDGEDEFORM_ENABLED")
+      message(FATAL_ERROR "Installed, but enabling the add-on failed:\n${out}\n${err}")
+    endif()
+    message(STATUS "Edge Deform enabled and user preferences saved; open Blender: "
+                   "3D Viewport > Sidebar (N) > Edge Deform")
+  else()
+    message(FATAL_ERROR "addon.cmake: unknown ED_ACTION '${ED_ACTION}'")
+  endif()
+  return()
+endif()
+
+# ------------------------------------------------------------------ configure
+set(ED_ADDON_SRC ${CMAKE_SOURCE_DIR}/addon/edge_deform)
+set(ED_PKG_DIR ${CMAKE_BINARY_DIR}/python/edgedeform)
+set(ED_VERSION ${PROJECT_VERSION})
+
+execute_process(COMMAND ${Python_EXECUTABLE} -c
+                  "import sys; print('%d.%d' % sys.version_info[:2])"
+                OUTPUT_VARIABLE ED_MODULE_PY OUTPUT_STRIP_TRAILING_WHITESPACE)
+string(REPLACE "." "" ED_PY_TAG "cp${ED_MODULE_PY}")
+string(TOLOWER "${CMAKE_SYSTEM_NAME}-${CMAKE_SYSTEM_PROCESSOR}" ED_PLATFORM)
+set(ED_EXT_PLATFORM ${ED_PLATFORM})
+if(ED_PLATFORM STREQUAL "linux-x86_64")
+  set(ED_EXT_PLATFORM linux-x64)
+endif()
+
+find_program(BLENDER_EXECUTABLE blender)
+if(BLENDER_EXECUTABLE AND NOT EDGEDEFORM_BLENDER_PYTHON)
+  execute_process(
+    COMMAND ${BLENDER_EXECUTABLE} -b --factory-startup --python-expr
+      "import sys, bpy; print('EDGEDEFORM_ANSWER=%d.%d %s' % (sys.version_info[:2] + (bpy.app.version_string,)))"
+    OUTPUT_VARIABLE _ed_out ERROR_QUIET TIMEOUT 300)
+  if(_ed_out MATCHES "EDGEDEFORM_ANSWER=([0-9]+\\.[0-9]+) ([^\n]*)")
+    set(EDGEDEFORM_BLENDER_PYTHON ${CMAKE_MATCH_1} CACHE STRING "Python version Blender embeds")
+    set(EDGEDEFORM_BLENDER_VERSION ${CMAKE_MATCH_2} CACHE STRING "Blender version")
+  endif()
+endif()
+
+if(NOT BLENDER_EXECUTABLE)
+  message(STATUS "edgedeform: Blender not found; install_addon will fail (set BLENDER_EXECUTABLE)")
+  set(_ed_install_error "Blender was not found: configure with -DBLENDER_EXECUTABLE=/path/to/blender")
+elseif(NOT EDGEDEFORM_BLENDER_PYTHON STREQUAL ED_MODULE_PY)
+  set(_ed_install_error
+    "Blender ${EDGEDEFORM_BLENDER_VERSION} embeds Python ${EDGEDEFORM_BLENDER_PYTHON} but the module is built for Python ${ED_MODULE_PY} (${Python_EXECUTABLE}): reconfigure with -DPython_EXECUTABLE=<Python ${EDGEDEFORM_BLENDER_PYTHON}>")
+  message(WARNING "edgedeform: ${_ed_install_error}")
+else()
+  message(STATUS "edgedeform: Blender ${EDGEDEFORM_BLENDER_VERSION} (${BLENDER_EXECUTABLE}) embeds Python ${EDGEDEFORM_BLENDER_PYTHON}, as the module: OK")
+endif()
+
+if(_ed_install_error)
+  add_custom_target(install_addon
+    COMMAND ${CMAKE_COMMAND} -E echo "install_addon: ${_ed_install_error}"
+    COMMAND ${CMAKE_COMMAND} -E false)
+else()
+  add_custom_target(install_addon
+    COMMAND ${CMAKE_COMMAND} -DED_ACTION=install -DED_ADDON_SRC=${ED_ADDON_SRC}
+            -DED_PKG_DIR=${ED_PKG_DIR} -DED_BLENDER=${BLENDER_EXECUTABLE}
+            -DED_MODULE_PY=${ED_MODULE_PY} -P ${CMAKE_CURRENT_LIST_FILE}
+    DEPENDS edgedeform_python
+    COMMENT "Installing the Edge Deform add-on into Blender's user add-on folder"
+    USES_TERMINAL)
+endif()
+
+# The zips: add-on + native module for this platform and Python.
+set(ED_ZIP ${CMAKE_BINARY_DIR}/edge_deform-${ED_VERSION}-${ED_PLATFORM}-${ED_PY_TAG}.zip)
+set(ED_EXT_ZIP ${CMAKE_BINARY_DIR}/edge_deform-${ED_VERSION}-extension-${ED_EXT_PLATFORM}.zip)
+set(EDGEDEFORM_ADDON_ZIP ${ED_ZIP} CACHE INTERNAL "")
+set(EDGEDEFORM_EXTENSION_ZIP ${ED_EXT_ZIP} CACHE INTERNAL "")
+set(_ed_stage ${CMAKE_BINARY_DIR}/addon_stage)
+file(MAKE_DIRECTORY ${_ed_stage}/zip ${_ed_stage}/extension)  # working directories of the zip commands
+file(GLOB_RECURSE _ed_sources CONFIGURE_DEPENDS ${ED_ADDON_SRC}/*.py ${ED_ADDON_SRC}/*.toml)
+
+add_custom_target(addon_zip ALL
+  COMMAND ${CMAKE_COMMAND} -DED_ACTION=stage -DED_ADDON_SRC=${ED_ADDON_SRC}
+          -DED_PKG_DIR=${ED_PKG_DIR} -DED_DEST=${_ed_stage}/zip -DED_FLAT=FALSE
+          -P ${CMAKE_CURRENT_LIST_FILE}
+  COMMAND ${CMAKE_COMMAND} -E rm -f ${ED_ZIP}
+  COMMAND ${CMAKE_COMMAND} -E tar cf ${ED_ZIP} --format=zip edge_deform
+  WORKING_DIRECTORY ${_ed_stage}/zip
+  DEPENDS edgedeform_python ${_ed_sources}
+  BYPRODUCTS ${ED_ZIP}
+  COMMENT "Add-on zip (Preferences > Add-ons > Install): ${ED_ZIP}")
+
+add_custom_target(addon_extension ALL
+  COMMAND ${CMAKE_COMMAND} -DED_ACTION=stage -DED_ADDON_SRC=${ED_ADDON_SRC}
+          -DED_PKG_DIR=${ED_PKG_DIR} -DED_DEST=${_ed_stage}/extension -DED_FLAT=TRUE
+          -P ${CMAKE_CURRENT_LIST_FILE}
+  COMMAND ${CMAKE_COMMAND} -E rm -f ${ED_EXT_ZIP}
+  COMMAND ${CMAKE_COMMAND} -E tar cf ${ED_EXT_ZIP} --format=zip .
+  WORKING_DIRECTORY ${_ed_stage}/extension
+  DEPENDS edgedeform_python ${_ed_sources}
+  BYPRODUCTS ${ED_EXT_ZIP}
+  COMMENT "Blender 4.2+ extension zip: ${ED_EXT_ZIP}")
+add_dependencies(addon_extension addon_zip)   # one stage writer at a time
