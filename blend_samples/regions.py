@@ -190,6 +190,6 @@ def material_regions(scene, V):
     for label, m, value in masks:
         lam[m] = value
     for label, m, value in masks:
-        key = label or "rest (default)"
+        key = label or "elsewhere (default)"
         out[key] = {"mask": m & (lam == value), "value": value}
     return out

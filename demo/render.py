@@ -164,7 +164,8 @@ def add_label(sc, cam, text, aspect, size=0.075, name="Label"):
     half_w = cam.data.ortho_scale / 2
     half_h = half_w / aspect
     ob.parent = cam
-    ob.location = (-half_w * 0.96, half_h - cam.data.ortho_scale * size * 1.2, -1.0)
+    # just past the near clip plane: in front of everything, even a result that blew up
+    ob.location = (-half_w * 0.96, half_h - cam.data.ortho_scale * size * 1.2, -0.02)
     sc.collection.objects.link(ob)
     return ob
 

@@ -36,4 +36,4 @@ step "5/5 demo"
 PYTHONPATH="$build/python${PYTHONPATH:+:$PYTHONPATH}" \
 blender -b --factory-startup --python-exit-code 1 \
   --python demo/run_demo.py -- --module-path "$build/python" --samples-dir blend_samples "$@" \
-  2>&1 | grep -v -E '^(EGL Error|Fra:|Saved:|Time:|Info: )|^ *$'
+  2>&1 | grep -v -E '^(EGL Error|Fra:|Saved:| *Time:|Info: )|^ *$'
