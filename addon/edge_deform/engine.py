@@ -24,7 +24,7 @@ class HandleInput:
     group: str
     indices: np.ndarray
     controller: Optional[bpy.types.Object]
-    rest_matrix: np.ndarray
+    rest_inverse: object       # mathutils.Matrix: inverse of the controller's rest
 
 
 @dataclass
@@ -67,8 +67,8 @@ def gather_inputs(ob, require_handles=True):
         if idx.size == 0:
             raise EdgeDeformError("Handle group '%s' is empty" % h.vertex_group)
         seen[idx] += 1
-        rest = mesh_io.matrix_to_numpy(h.rest_matrix)   # a 4x4 mathutils.Matrix
-        groups.append(HandleInput(h.vertex_group, idx, h.controller, rest))
+        groups.append(HandleInput(h.vertex_group, idx, h.controller,
+                                  h.rest_matrix.inverted_safe()))
     if np.any(seen > 1):
         v = int(np.flatnonzero(seen > 1)[0])
         raise EdgeDeformError("Vertex %d belongs to two handle groups; a vertex can follow "
@@ -160,21 +160,20 @@ def record_rest_transforms(ob):
             h.rest_matrix = h.controller.matrix_world.copy()
 
 
-def controller_matrix(h_controller, rest):
-    """4x4: rest -> current motion of a controller, as numpy."""
-    return mesh_io.matrix_to_numpy(h_controller.matrix_world) @ np.linalg.inv(rest)
-
-
 def handle_targets(ob, binding, inputs):
-    """Targets (len(handles),3) in object space, in the order of inputs.handles."""
-    obmw = mesh_io.matrix_to_numpy(ob.matrix_world)
-    obmw_inv = np.linalg.inv(obmw)
+    """Targets (len(handles),3) in object space, in the order of inputs.handles.
+
+    4x4 products in mathutils and the per-vertex product with einsum: no BLAS/LAPACK
+    call here, whose thread pool would fight the solver's OpenMP threads every update.
+    """
+    obmw = ob.matrix_world
+    obmw_inv = obmw.inverted()
     out = []
     for g in inputs.handle_groups:
         P = binding.X[g.indices]
         if g.controller is not None:
-            A = obmw_inv @ controller_matrix(g.controller, g.rest_matrix) @ obmw
-            P = P @ A[:3, :3].T + A[:3, 3]
+            A = np.array(obmw_inv @ g.controller.matrix_world @ g.rest_inverse @ obmw)
+            P = np.einsum("ij,kj->ik", P, A[:3, :3]) + A[:3, 3]
         out.append(P)
     return np.concatenate(out, axis=0)
 
