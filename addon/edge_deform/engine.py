@@ -201,11 +201,23 @@ def write(ob, binding, positions):
     mesh_io.write_output(ob, s.output, s.shape_key_name, positions)
 
 
-def deform(ob, warm=True, fresh=False):
-    """Gather, bind, solve from the controllers, write. Returns (binding, result)."""
+def deform(ob, warm=True, fresh=False, reuse_inputs=False):
+    """Gather, bind, solve from the controllers, write. Returns (binding, result).
+
+    reuse_inputs: take the groups read at the last sync (animation playback, where groups
+    cannot be edited) instead of reading them again; falls back to reading when the mesh
+    has no current binding.
+    """
     s = ob.edge_deform
-    inputs = gather_inputs(ob)
-    binding = ensure_binding(ob, inputs, fresh=fresh)
+    binding = session.get(ob.data.as_pointer())
+    if (reuse_inputs and binding is not None and binding.inputs is not None
+            and binding.counts == mesh_io.topology_counts(ob.data)
+            and binding.constraint_key != "temporary"):
+        inputs = with_global_changes(binding.inputs, ob)
+        binding = ensure_binding(ob, inputs, check=False)
+    else:
+        inputs = gather_inputs(ob)
+        binding = ensure_binding(ob, inputs, fresh=fresh)
     result = solve(binding, handle_targets(ob, binding, inputs), s.iterations, s.tolerance,
                    warm=warm)
     write(ob, binding, result.positions)

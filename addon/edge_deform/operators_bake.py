@@ -17,13 +17,16 @@ def on_frame_change(scene, depsgraph=None):
     """Re-solve objects with 'Deform on Frame Change' (warm-started from the last frame)."""
     if _state["baking"]:
         return
+    # During playback the groups cannot change: skip re-reading them every frame.
+    screen = getattr(bpy.context, "screen", None)
+    playing = bool(screen is not None and screen.is_animation_playing)
     for ob in scene.objects:
         s = getattr(ob, "edge_deform", None)
         if ob.type != 'MESH' or s is None or not s.animate or not s.handles \
                 or ob.mode != 'OBJECT':
             continue
         try:
-            engine.deform(ob, warm=True)
+            engine.deform(ob, warm=True, reuse_inputs=playing)
             _state["errors"].pop(ob.name_full, None)
         except engine.USER_ERRORS as exc:
             if _state["errors"].get(ob.name_full) != str(exc):   # say it once

@@ -130,6 +130,7 @@ def test_quads_and_ngons():
         else:
             bpy.ops.mesh.primitive_cylinder_add(vertices=16, depth=2)
         ob = bpy.context.active_object
+        ob.modifiers.new("subsurf", 'SUBSURF')   # other modifiers must not disturb reads
         me = ob.data
         counts = (len(me.vertices), len(me.edges), len(me.polygons))
         sizes = {p.loop_total for p in me.polygons}
@@ -151,6 +152,7 @@ def test_quads_and_ngons():
         assert np.array_equal(out[static], rest[static]), kind
         assert (len(me.vertices), len(me.edges), len(me.polygons)) == counts, kind
         assert {p.loop_total for p in me.polygons} == sizes and max(sizes) > 3, kind
+        assert ob.modifiers["subsurf"].show_viewport, kind
         r = api_solve(rest, loop_triangles(me), handle, static, T, 0.5)
         assert np.abs(out - r.positions).max() < 1e-5, kind
         bpy.data.objects.remove(ob)
