@@ -31,6 +31,13 @@ def test_lambda1_energy_never_increases(name, domain, edit):
     # allow round-off only: 1e-12 of the first energy
     assert rises.max() <= 1e-12 * E[0], f"energy rose by {rises.max():.3e} (E0={E[0]:.3e})"
     assert E[-1] < E[0]                                # and it does descend
+    # From a given start too: the first step cannot rise above the start's energy.
+    X0 = np.asarray(r.positions) + 0.01 * diag(V) * np.random.default_rng(5).standard_normal(
+        V.shape)
+    r2 = d.solve(targets, max_iterations=5, tolerance=0.0, initial=X0)
+    E2 = np.asarray(r2.energies)
+    assert r2.initial_energy is not None and E2[0] <= r2.initial_energy
+    assert np.diff(E2).max() <= 1e-12 * r2.initial_energy
 
 
 @pytest.mark.parametrize("edit", sorted(MODERATE))
