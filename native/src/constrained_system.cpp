@@ -173,6 +173,7 @@ ConstrainedSystem build_constrained_system(const NodeGraph& g, const RowMatrixX3
   for (int t = 0; t < T; ++t) {
     for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a) {
       const double w = st.weight[static_cast<size_t>(a)];
+      if (w == 0.0) continue;  // a clamped arc: its row stays empty
       const int j = st.neighbour[static_cast<size_t>(a)];
       for (int c = 0; c < 2; ++c) {  // p_i - p_j, each node the mean of its two vertex slots
         j1.emplace_back(a, sys.stencil_node_vertices(t, c), 0.5);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Geometry>
 
 #include "edgedeform/node_graph.h"
 
@@ -22,7 +21,6 @@ NodeStencil build_stencil(const NodeGraph& g, const RowMatrixX3d& rest_nodes, co
     st.self[static_cast<size_t>(t)] = position_index[static_cast<size_t>(i)];
     for (int k = g.offsets[static_cast<size_t>(i)]; k < g.offsets[static_cast<size_t>(i) + 1]; ++k) {
       const double w = g.adjacency_weights[static_cast<size_t>(k)];
-      if (!(w > 0.0)) continue;
       const int j = g.adjacency[static_cast<size_t>(k)];
       st.neighbour.push_back(position_index[static_cast<size_t>(j)]);
       st.weight.push_back(w);
@@ -43,61 +41,16 @@ NodeStencil build_stencil(const NodeGraph& g, const RowMatrixX3d& rest_nodes, co
   return st;
 }
 
-// One-sided Jacobi SVD (Hestenes): rotate the columns of A = S until they are orthogonal,
-// so that S V = U Sigma. Exact rotations, accurate to round-off, and several times faster
-// than a general SVD for 3x3. With the two largest singular pairs (u1,v1), (u2,v2), the
-// optimal proper rotation is R = v1 u1^T + v2 u2^T + (v1 x v2)(u1 x u2)^T: both U and V
-// are completed to rotations, which is exactly the reflection fix (flip the column of the
-// smallest singular value when det(V U^T) < 0), and it stays well defined when S is rank 2.
-// Started from the previous iteration's V, the columns are nearly orthogonal already and one
-// sweep usually suffices.
-// Columns count as orthogonal when their cosine is below this: the rotation is then exact to
-// about this relative accuracy, far below what the solver's tolerances can see.
-constexpr double kOrthogonal = 1e-12;
-
-Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V) {
-  Eigen::Matrix3d A = S * V;
-  constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
-  for (int sweep = 0; sweep < 12; ++sweep) {
-    bool rotated = false;
-    for (const auto& pair : kPairs) {
-      const int p = pair[0], q = pair[1];
-      const double alpha = A.col(p).squaredNorm(), beta = A.col(q).squaredNorm(), gamma = A.col(p).dot(A.col(q));
-      if (!(std::abs(gamma) > kOrthogonal * std::sqrt(alpha * beta))) continue;
-      rotated = true;
-      const double zeta = (beta - alpha) / (2.0 * gamma);
-      const double t = (zeta >= 0.0 ? 1.0 : -1.0) / (std::abs(zeta) + std::sqrt(1.0 + zeta * zeta));
-      const double c = 1.0 / std::sqrt(1.0 + t * t), s = c * t;
-      const Eigen::Vector3d ap = A.col(p), vp = V.col(p);
-      A.col(p) = c * ap - s * A.col(q);
-      A.col(q) = s * ap + c * A.col(q);
-      V.col(p) = c * vp - s * V.col(q);
-      V.col(q) = s * vp + c * V.col(q);
-    }
-    if (!rotated) break;
-  }
-  // The two largest singular values and their vectors.
-  Eigen::Vector3d sigma(A.col(0).norm(), A.col(1).norm(), A.col(2).norm());
-  int i1 = 0;
-  if (sigma(1) > sigma(i1)) i1 = 1;
-  if (sigma(2) > sigma(i1)) i1 = 2;
-  int i2 = (i1 == 0) ? 1 : 0;
-  for (int k = 0; k < 3; ++k)
-    if (k != i1 && sigma(k) > sigma(i2)) i2 = k;
-  if (!(sigma(i1) > 0.0)) return Eigen::Matrix3d::Identity();
-  const Eigen::Vector3d u1 = A.col(i1) / sigma(i1);
-  Eigen::Vector3d u2;
-  if (sigma(i2) > 1e-12 * sigma(i1)) {
-    u2 = A.col(i2) - u1.dot(A.col(i2)) * u1;  // re-orthogonalize against round-off
-    u2.normalize();
-  } else {  // rank 1: any direction orthogonal to u1 (R is not unique here)
-    u2 = u1.unitOrthogonal();
-  }
-  const Eigen::Vector3d v1 = V.col(i1), v2 = V.col(i2);
-  return v1 * u1.transpose() + v2 * u2.transpose() + v1.cross(v2) * u1.cross(u2).transpose();
-}
-
 namespace {
+
+// sum_j e0_j e_j^T over every arc of a term, weight or not: the neighbourhood's shape alone.
+Eigen::Matrix3d unweighted_covariance(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::Vector3d& pi,
+                                      int begin, int end) {
+  Eigen::Matrix3d S2 = Eigen::Matrix3d::Zero();
+  for (int a = begin; a < end; ++a)
+    S2.noalias() += st.rest_edge.row(a).transpose() * (pi - p.row(st.neighbour[static_cast<size_t>(a)]).transpose()).transpose();
+  return S2;
+}
 
 // One term's fit: R_t, s_t and its energy.
 double fit_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int t, Eigen::Matrix3d& R,
@@ -114,7 +67,9 @@ double fit_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int
   }
   const double rest_norm = st.rest_norm(t);
   if (rest_norm > 0.0) {
-    R = closest_rotation(S, V);
+    const RotationFit rf = fit_rotation(S, V);
+    R = rf.R;
+    if (rf.degenerate) R = rotation_about_axis(rf.u1, rf.v1, unweighted_covariance(st, p, pi, begin, end));
     s = std::clamp((R * S).trace() / rest_norm, kMinScale, kMaxScale);
   } else {
     R.setIdentity();

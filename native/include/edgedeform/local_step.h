@@ -3,6 +3,7 @@
 
 #include <vector>
 
+#include "edgedeform/rotation_fit.h"
 #include "edgedeform/types.h"
 
 namespace edgedeform {
@@ -14,7 +15,7 @@ struct NodeStencil {
   std::vector<int> self;          // #terms: index of the term's own node
   std::vector<int> offsets;       // #terms+1: arcs of term t are offsets[t] .. offsets[t+1)
   std::vector<int> neighbour;     // #arcs: index of the neighbour node
-  std::vector<double> weight;     // #arcs: w_ij > 0
+  std::vector<double> weight;     // #arcs: w_ij (0 for a clamped arc: kept for its direction)
   RowMatrixX3d rest_edge;         // #arcs: e0_ij = p0_i - p0_j
   RowMatrixX3d rest_laplacian;    // #terms: delta0_i = sum_j w_ij e0_ij
   Eigen::VectorXd rest_norm;      // #terms: sum_j w_ij |e0_ij|^2
@@ -24,8 +25,8 @@ struct NodeStencil {
 
 // The terms of `term_nodes` (global node ids) of `graph`, with rest node positions
 // `rest_nodes`; `position_index` maps a global node id to its row in the position arrays the
-// stencil will be evaluated on. Arcs whose weight is not positive are left out: they add
-// nothing to the energy.
+// stencil will be evaluated on. Arcs of weight 0 stay: they add nothing to the energy, but
+// their directions settle the rotation of a node whose weighted arcs are all collinear.
 struct NodeGraph;
 NodeStencil build_stencil(const NodeGraph& graph, const RowMatrixX3d& rest_nodes,
                           const std::vector<int>& term_nodes, const std::vector<int>& position_index);
@@ -45,15 +46,6 @@ struct LocalFit {
 // unbounded s would feed back into the next global step.
 constexpr double kMinScale = 1e-2;
 constexpr double kMaxScale = 1e2;
-
-// The rotation R maximizing trace(R S): for S = U Sigma V^T, R = V U^T, with the column of
-// the smallest singular value flipped when det(V U^T) < 0. `V` is the starting guess of the
-// right singular vectors (any orthogonal matrix) and returns the converged ones.
-Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V);
-inline Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& S) {
-  Eigen::Matrix3d V = Eigen::Matrix3d::Identity();
-  return closest_rotation(S, V);
-}
 
 // Fits R_i, s_i to `node_positions` for every term (in parallel) and evaluates the energy
 // with term stiffness `term_lambda` (#terms).

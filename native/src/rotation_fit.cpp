@@ -1,0 +1,104 @@
+#include "edgedeform/rotation_fit.h"
+
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+namespace edgedeform {
+
+namespace {
+
+// Columns count as orthogonal when their cosine is below this. The fixed-point tests need
+// rotations exact to round-off: a looser stop (1e-12) was visibly amplified by the
+// bi-Laplacian of the lambda = 0 system.
+constexpr double kOrthogonal = 1e-15;
+
+Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& k) {
+  Eigen::Matrix3d K;
+  K << 0, -k.z(), k.y(), k.z(), 0, -k.x(), -k.y(), k.x(), 0;
+  return K;
+}
+
+// The smallest rotation taking unit u to unit v.
+Eigen::Matrix3d minimal_rotation(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+  const double c = u.dot(v);
+  if (c < -1.0 + 1e-12) {  // opposite: a half turn about any axis orthogonal to u
+    const Eigen::Vector3d w = u.unitOrthogonal();
+    return 2.0 * w * w.transpose() - Eigen::Matrix3d::Identity();
+  }
+  const Eigen::Matrix3d K = cross_matrix(u.cross(v));
+  return Eigen::Matrix3d::Identity() + K + K * K / (1.0 + c);
+}
+
+}  // namespace
+
+// One-sided Jacobi SVD (Hestenes): rotate the columns of A = S V until they are orthogonal,
+// so that S V = U Sigma. With the two largest singular pairs (u1,v1), (u2,v2), the optimal
+// proper rotation is R = v1 u1^T + v2 u2^T + (v1 x v2)(u1 x u2)^T: both U and V are completed
+// to rotations, which is exactly the reflection fix, and it stays defined for rank-2 S (the
+// flat neighbourhoods that are everywhere on a plane).
+RotationFit fit_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V) {
+  Eigen::Matrix3d A = S * V;
+  constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (int sweep = 0; sweep < 12; ++sweep) {
+    bool rotated = false;
+    for (const auto& pair : kPairs) {
+      const int p = pair[0], q = pair[1];
+      const double alpha = A.col(p).squaredNorm(), beta = A.col(q).squaredNorm(), gamma = A.col(p).dot(A.col(q));
+      if (!(std::abs(gamma) > kOrthogonal * std::sqrt(alpha * beta))) continue;
+      rotated = true;
+      const double zeta = (beta - alpha) / (2.0 * gamma);
+      const double t = (zeta >= 0.0 ? 1.0 : -1.0) / (std::abs(zeta) + std::sqrt(1.0 + zeta * zeta));
+      const double c = 1.0 / std::sqrt(1.0 + t * t), s = c * t;
+      const Eigen::Vector3d ap = A.col(p), vp = V.col(p);
+      A.col(p) = c * ap - s * A.col(q);
+      A.col(q) = s * ap + c * A.col(q);
+      V.col(p) = c * vp - s * V.col(q);
+      V.col(q) = s * vp + c * V.col(q);
+    }
+    if (!rotated) break;
+  }
+  const Eigen::Vector3d sigma(A.col(0).norm(), A.col(1).norm(), A.col(2).norm());
+  int i1 = 0;
+  if (sigma(1) > sigma(i1)) i1 = 1;
+  if (sigma(2) > sigma(i1)) i1 = 2;
+  int i2 = (i1 == 0) ? 1 : 0;
+  for (int k = 0; k < 3; ++k)
+    if (k != i1 && sigma(k) > sigma(i2)) i2 = k;
+
+  RotationFit fit;
+  if (!(sigma(i1) > 0.0)) {
+    fit.R.setIdentity();
+    fit.u1 = fit.v1 = Eigen::Vector3d::UnitX();
+    fit.degenerate = true;
+    return fit;
+  }
+  fit.u1 = A.col(i1) / sigma(i1);
+  fit.v1 = V.col(i1);
+  if (sigma(i2) < kDegenerateRatio * sigma(i1)) {
+    // u2 = a2 / sigma2 would be round-off amplified by sigma1 / sigma2: not to be trusted.
+    fit.degenerate = true;
+    fit.R = minimal_rotation(fit.u1, fit.v1);
+    return fit;
+  }
+  Eigen::Vector3d u2 = A.col(i2) - fit.u1.dot(A.col(i2)) * fit.u1;  // re-orthogonalized
+  u2.normalize();
+  const Eigen::Vector3d v2 = V.col(i2);
+  fit.R = fit.v1 * fit.u1.transpose() + v2 * u2.transpose() + fit.v1.cross(v2) * fit.u1.cross(u2).transpose();
+  return fit;
+}
+
+Eigen::Matrix3d rotation_about_axis(const Eigen::Vector3d& u1, const Eigen::Vector3d& v1, const Eigen::Matrix3d& tie) {
+  // R = Rot(v1, phi) R0 with R0 u1 = v1; trace(R tie) = a cos(phi) + b sin(phi) + const.
+  const Eigen::Matrix3d R0 = minimal_rotation(u1, v1);
+  const Eigen::Matrix3d N = R0 * tie;
+  const double a = N.trace() - v1.dot(N * v1);
+  const double b = v1.x() * (N(1, 2) - N(2, 1)) + v1.y() * (N(2, 0) - N(0, 2)) + v1.z() * (N(0, 1) - N(1, 0));
+  if (std::hypot(a, b) <= 1e-14 * N.norm()) return R0;
+  const double phi = std::atan2(b, a);
+  const Eigen::Matrix3d K = cross_matrix(v1);
+  const Eigen::Matrix3d rot = Eigen::Matrix3d::Identity() + std::sin(phi) * K + (1.0 - std::cos(phi)) * K * K;
+  return rot * R0;
+}
+
+}  // namespace edgedeform

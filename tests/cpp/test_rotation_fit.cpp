@@ -1,0 +1,91 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+
+#include "edgedeform/rotation_fit.h"
+
+using namespace edgedeform;
+
+namespace {
+
+// Reference: Eigen's general SVD and the textbook reflection fix.
+Eigen::Matrix3d reference_rotation(const Eigen::Matrix3d& S) {
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(S, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d U = svd.matrixU();
+  Eigen::Matrix3d R = svd.matrixV() * U.transpose();
+  if (R.determinant() < 0) {
+    U.col(2) *= -1;
+    R = svd.matrixV() * U.transpose();
+  }
+  return R;
+}
+
+}  // namespace
+
+TEST(ClosestRotation, MatchesTheSvdReferenceOnRandomMatrices) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g;
+  for (int trial = 0; trial < 2000; ++trial) {
+    Eigen::Matrix3d S;
+    for (int k = 0; k < 9; ++k) S.data()[k] = g(rng);
+    const Eigen::Matrix3d R = closest_rotation(S);
+    EXPECT_NEAR(R.determinant(), 1.0, 1e-12);
+    EXPECT_LT((R * R.transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+    EXPECT_LT((R - reference_rotation(S)).norm(), 1e-9) << "trial " << trial;
+  }
+}
+
+TEST(ClosestRotation, RecoversARotationFromARotatedRankTwoMatrix) {
+  // A planar neighbourhood: S = sum w e0 e^T with every e0 in a plane.
+  const Eigen::Matrix3d Q = Eigen::AngleAxisd(1.1, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+  const Eigen::Vector3d e0s[3] = {{1, 0, 0}, {0.3, 1, 0}, {-0.7, 0.2, 0}};
+  for (const auto& e0 : e0s) S += e0 * (Q * e0).transpose();
+  EXPECT_LT((closest_rotation(S) - Q).norm(), 1e-12);
+}
+
+TEST(ClosestRotation, IdentityForASymmetricPositiveMatrix) {
+  Eigen::Matrix3d S;
+  S << 3, 1, 0, 1, 2, 0.5, 0, 0.5, 1;
+  EXPECT_LT((closest_rotation(S) - Eigen::Matrix3d::Identity()).norm(), 1e-14);
+  EXPECT_LT((closest_rotation(Eigen::Matrix3d::Zero()) - Eigen::Matrix3d::Identity()).norm(), 0.0 + 1e-15);
+}
+
+TEST(ClosestRotation, ReflectionIsFixed) {
+  Eigen::Matrix3d S = Eigen::Vector3d(3, 2, 1).asDiagonal();
+  S(2, 2) = -1;  // det < 0: the best proper rotation flips the smallest axis back
+  const Eigen::Matrix3d R = closest_rotation(S);
+  EXPECT_LT((R - Eigen::Matrix3d::Identity()).norm(), 1e-14);
+}
+
+
+TEST(RotationAboutAxis, ACollinearNeighbourhoodTakesItsSpinFromTheTieBreaker) {
+  // Two weighted arcs along one line (as on a right-angled grid, where the other arcs'
+  // weights are clamped to 0): S only fixes the axis; the unweighted arcs fix the rest.
+  const Eigen::Matrix3d Q = Eigen::AngleAxisd(0.6, Eigen::Vector3d(0.3, -1, 0.5).normalized()).toRotationMatrix();
+  const Eigen::Vector3d line(1, 1e-9, -1), side(1, 0, 1);
+  const Eigen::Matrix3d S = line * (Q * line).transpose() + (-line) * (Q * -line).transpose();
+  Eigen::Matrix3d V = Eigen::Matrix3d::Identity();
+  const RotationFit fit = fit_rotation(S, V);
+  ASSERT_TRUE(fit.degenerate);
+  EXPECT_LT((fit.R * fit.u1 - fit.v1).norm(), 1e-12);
+  const Eigen::Matrix3d tie = S + side * (Q * side).transpose();
+  EXPECT_LT((rotation_about_axis(fit.u1, fit.v1, tie) - Q).norm(), 1e-12);
+  // At rest (Q = I) the answer is the identity.
+  const Eigen::Matrix3d rest = line * line.transpose() * 2.0;
+  V.setIdentity();
+  const RotationFit at_rest = fit_rotation(rest, V);
+  const Eigen::Matrix3d tie_rest = rest + side * side.transpose();
+  EXPECT_LT((rotation_about_axis(at_rest.u1, at_rest.v1, tie_rest) - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+}
+
+TEST(RotationAboutAxis, WithoutInformationItIsTheMinimalRotation) {
+  const Eigen::Vector3d u = Eigen::Vector3d(1, 2, 2) / 3.0, v = Eigen::Vector3d(0, 0, 1);
+  const Eigen::Matrix3d R = rotation_about_axis(u, v, Eigen::Matrix3d::Zero());
+  EXPECT_LT((R * u - v).norm(), 1e-14);
+  EXPECT_LT((R * u.cross(v) - u.cross(v)).norm(), 1e-14);  // the axis u x v stays put
+  EXPECT_NEAR(R.determinant(), 1.0, 1e-14);
+}
