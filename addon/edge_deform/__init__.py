@@ -13,7 +13,7 @@ bl_info = {
 
 import bpy
 
-from . import (operators_bake, operators_bind, operators_grab, operators_groups,
+from . import (cache_handlers, operators_bake, operators_bind, operators_grab, operators_groups,
                operators_live, properties, session, ui)
 
 _register, _unregister = bpy.utils.register_classes_factory(
@@ -26,9 +26,11 @@ def register():
     _register()
     properties.register_props()
     operators_bake.register_handlers()
+    cache_handlers.register_handlers()
 
 
 def unregister():
+    cache_handlers.unregister_handlers()
     operators_bake.unregister_handlers()
     properties.unregister_props()
     _unregister()

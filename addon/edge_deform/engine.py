@@ -193,6 +193,24 @@ def solve(binding, targets, iterations, tolerance, warm=True):
     return result
 
 
+class IterationBudget:
+    """Iterations per tick for the modal tools: at most `iterations`, and no more than fit
+    in `budget_ms` (at least one), so a large mesh stays responsive; the tools keep
+    iterating on later ticks until the solve converges."""
+
+    def __init__(self, budget_ms=40.0):
+        self.budget_ms = budget_ms
+        self.ms_per_iteration = None
+
+    def iterations(self, limit):
+        if not self.ms_per_iteration:
+            return 1            # first tick: measure
+        return max(1, min(int(limit), int(self.budget_ms / self.ms_per_iteration)))
+
+    def record(self, result, elapsed_ms):
+        self.ms_per_iteration = elapsed_ms / max(1, result.iterations)
+
+
 def write(ob, binding, positions):
     s = ob.edge_deform
     if s.output == 'MESH' and not mesh_io.has_rest(ob.data):

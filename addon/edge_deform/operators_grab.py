@@ -73,6 +73,7 @@ class EDGE_DEFORM_OT_grab(bpy.types.Operator):
         self.axis = None
         self.dirty, self.converged, self.first = True, False, True
         self.stats = ""
+        self.budget = engine.IterationBudget()
         self.region, self.rv3d, self.area = context.region, context.region_data, context.area
         wm = context.window_manager
         self.timer = wm.event_timer_add(TICK, window=context.window)
@@ -97,14 +98,16 @@ class EDGE_DEFORM_OT_grab(bpy.types.Operator):
         t0 = time.perf_counter()
         self.delta = self.offset()
         targets = np.concatenate([self.start + self.delta, self.pinned])
+        iterations = self.budget.iterations(s.iterations)
         try:
             if self.first:   # start from what is shown, not from the rest shape
-                r = self.binding.deformer.solve(targets, max_iterations=s.iterations,
+                r = self.binding.deformer.solve(targets, max_iterations=iterations,
                                                 tolerance=s.tolerance, warm_start=False,
                                                 initial=self.current)
             else:
-                r = self.binding.deformer.solve(targets, max_iterations=s.iterations,
+                r = self.binding.deformer.solve(targets, max_iterations=iterations,
                                                 tolerance=s.tolerance, warm_start=True)
+            self.budget.record(r, (time.perf_counter() - t0) * 1e3)
         except engine.USER_ERRORS as exc:
             self.report({'ERROR'}, "Edge Deform: %s" % exc)
             self.dirty, self.converged = False, True

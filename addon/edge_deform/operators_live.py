@@ -3,6 +3,8 @@
 Controllers are moved by anything (G/R/S, gizmos, drivers, scripts): every timer tick the
 controllers' world matrices are compared with the last solved ones; a change (or an
 unconverged previous solve) triggers one warm-started solve and a write of the output.
+Each tick runs at most the settings' iterations and no more than fit in ~40 ms, so big
+meshes stay responsive and converge over the following ticks.
 Only this main-thread timer touches bpy.
 """
 
@@ -62,6 +64,7 @@ class EDGE_DEFORM_OT_live(bpy.types.Operator):
         self.stats = "no solve yet"
         self.area = context.area
         self.updates = 0
+        self.budget = engine.IterationBudget()
         wm = context.window_manager
         self.timer = wm.event_timer_add(TICK, window=context.window)
         wm.modal_handler_add(self)
@@ -84,7 +87,9 @@ class EDGE_DEFORM_OT_live(bpy.types.Operator):
                 return
             t0 = time.perf_counter()
             targets = engine.handle_targets(ob, self.binding, self.inputs)
-            r = engine.solve(self.binding, targets, s.iterations, s.tolerance, warm=True)
+            r = engine.solve(self.binding, targets, self.budget.iterations(s.iterations),
+                             s.tolerance, warm=True)
+            self.budget.record(r, (time.perf_counter() - t0) * 1e3)
             engine.write(ob, self.binding, r.positions)
         except engine.USER_ERRORS as exc:
             self.report({'ERROR'}, "Edge Deform: %s" % exc)
