@@ -195,6 +195,49 @@ def steps():
     assert np.array_equal(key_positions(plane()), out), "redo brings it back"
     print("live + Enter + undo/redo: ok")
 
+    # ---------------------------------------------------------------- mouse: RMB, LMB
+    kept = key_positions(plane()).copy()
+    with override():
+        assert bpy.ops.edge_deform.live('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
+    ctrl().location.z += 0.1
+    yield from until(lambda: abs(key_positions(plane())[handle[0], 2]
+                                 - kept[handle[0], 2] - 0.1) < 1e-4)
+    tap('RIGHTMOUSE')
+    yield from until(lambda: np.array_equal(key_positions(plane()), kept))
+    assert np.array_equal(key_positions(plane()), kept), "right click restores bit-exact"
+    with override():
+        assert bpy.ops.edge_deform.live('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
+    ctrl().location.z += 0.1
+    yield from until(lambda: abs(key_positions(plane())[handle[0], 2]
+                                 - kept[handle[0], 2] - 0.1) < 1e-4)
+    event('MOUSEMOVE', at=center(0, -150))   # away from the plane: a click, no selection
+    yield
+    tap('LEFTMOUSE', at=center(0, -150))
+    for _ in range(5):
+        yield
+    moved = key_positions(plane()).copy()
+    assert abs(moved[handle[0], 2] - kept[handle[0], 2] - 0.1) < 1e-4
+    ctrl().location.z -= 0.1                 # live has ended: nothing follows any more
+    for _ in range(5):
+        yield
+    assert np.array_equal(key_positions(plane()), moved), "left click confirmed"
+    print("live + right click / left click: ok")
+
+    # ---------------------------------------------------------------- solve + undo
+    with override():
+        bpy.ops.ed.undo_push(message="before solve")
+    before = key_positions(plane()).copy()
+    ctrl().location.z += 0.25
+    bpy.context.view_layer.update()
+    with override():
+        assert bpy.ops.edge_deform.solve('EXEC_DEFAULT', True) == {'FINISHED'}
+    assert not np.array_equal(key_positions(plane()), before)
+    with override():
+        bpy.ops.ed.undo()
+    yield
+    assert np.array_equal(key_positions(plane()), before), "undo of solve"
+    print("solve + undo: ok")
+
     # ---------------------------------------------------------------- grab in Edit Mode
     ob = plane()
     ob.shape_key_clear()
