@@ -234,8 +234,9 @@ AssembledSystem assemble_system(const ConstrainedSystem& sys, const Eigen::Vecto
         for (int k = 0; k < 3; ++k)
           h.emplace_back(static_cast<int>(it.row()), 6 * t + 3 + k, it.value() * st.rest_laplacian(t, k));
   }
-  out.H.resize(nf, 6 * T);
-  out.H.setFromTriplets(h.begin(), h.end());
+  SparseMatrixRowMajor H(nf, 6 * T);
+  H.setFromTriplets(h.begin(), h.end());
+  out.H = RotationOperator(H);
   return out;
 }
 
@@ -243,38 +244,6 @@ Eigen::MatrixXd fixed_vertex_rhs(const ConstrainedSystem& sys, const AssembledSy
   Eigen::MatrixXd c = -(as.B1 * (sys.J1c * xc));
   if (as.laplacian_term) c.noalias() -= as.B2 * (sys.J2c * xc);
   return c;
-}
-
-void stack_rotations(const std::vector<Eigen::Matrix3d>& R, const Eigen::VectorXd& s, RowMatrixX3d& Z) {
-  const int T = static_cast<int>(R.size());
-  Z.resize(6 * T, 3);
-#pragma omp parallel for schedule(static) if (T > 4096)
-  for (int t = 0; t < T; ++t)
-    for (int k = 0; k < 3; ++k)
-      for (int d = 0; d < 3; ++d) {
-        Z(6 * t + k, d) = R[static_cast<size_t>(t)](d, k);
-        Z(6 * t + 3 + k, d) = s(t) * R[static_cast<size_t>(t)](d, k);
-      }
-}
-
-void right_hand_side(const SparseMatrixRowMajor& H, const RowMatrixX3d& Z, const Eigen::MatrixXd& c,
-                     Eigen::MatrixXd& y) {
-  const int rows = static_cast<int>(H.rows());
-  y.resize(rows, 3);
-#pragma omp parallel for schedule(dynamic, 1024) if (rows > 4096)
-  for (int r = 0; r < rows; ++r) {
-    double y0 = c(r, 0), y1 = c(r, 1), y2 = c(r, 2);
-    for (SparseMatrixRowMajor::InnerIterator it(H, r); it; ++it) {
-      const double v = it.value();
-      const Eigen::Index col = it.col();
-      y0 += v * Z(col, 0);
-      y1 += v * Z(col, 1);
-      y2 += v * Z(col, 2);
-    }
-    y(r, 0) = y0;
-    y(r, 1) = y1;
-    y(r, 2) = y2;
-  }
 }
 
 }  // namespace edgedeform

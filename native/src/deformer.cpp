@@ -138,12 +138,10 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
 
   // Below this the energy is round-off of a shape that is already at rest (or rigidly moved).
   const double energy_floor = 1e-14 * sys.stencil.rest_norm.sum();
-  RowMatrixX3d Z;
   Eigen::MatrixXd rhs, xf;
   for (int it = 0; it < options.max_iterations; ++it) {
     auto t0 = Clock::now();
-    stack_rotations(fit.rotation, fit.scale, Z);
-    right_hand_side(as.H, Z, c, rhs);
+    as.H.apply(fit.rotation, fit.scale, c, rhs);
     result.rhs_ms += ms_since(t0);
 
     t0 = Clock::now();

@@ -6,8 +6,8 @@
 // with J1 the arc differences (P_i - P_j) and J2 the graph Laplacian rows times P,
 // W1_a = lambda_i w_a, W2_t = 1 - lambda_t. Its normal equations, restricted to x_f, are
 //   A x_f = H Z + c,   A = J1f^T W1 J1f + J2f^T W2 J2f,
-// where Z stacks the entries of every R_t and s_t R_t, so that the right side of one
-// iteration is a single sparse product.
+// where Z stacks the entries of every R_t and s_t R_t. H is kept as a RotationOperator, so
+// that the right side of one iteration is a single sparse product.
 #pragma once
 
 #include <optional>
@@ -16,6 +16,7 @@
 
 #include "edgedeform/local_step.h"
 #include "edgedeform/node_graph.h"
+#include "edgedeform/rotation_operator.h"
 
 namespace edgedeform {
 
@@ -52,7 +53,7 @@ ConstrainedSystem build_constrained_system(const NodeGraph& graph, const RowMatr
 // The lambda-dependent operators.
 struct AssembledSystem {
   SparseMatrix A;                 // nf x nf, symmetric
-  SparseMatrixRowMajor H;         // nf x 6 #terms
+  RotationOperator H;             // the H Z product, nf x (#terms rotations and scales)
   SparseMatrix B1;                // J1f^T W1  (nf x #arcs)
   SparseMatrix B2;                // J2f^T W2  (nf x #terms), empty without the Laplacian term
   Eigen::VectorXd term_lambda;    // #terms
@@ -64,13 +65,5 @@ AssembledSystem assemble_system(const ConstrainedSystem& system, const Eigen::Ve
 // c = -(B1 J1c + B2 J2c) x_c : the fixed vertices' share of the right side.
 Eigen::MatrixXd fixed_vertex_rhs(const ConstrainedSystem& system, const AssembledSystem& assembled,
                                  const Eigen::MatrixXd& fixed_positions);
-
-// Z (6 #terms x 3): Z(6t + k, d) = R_t(d,k), Z(6t + 3 + k, d) = s_t R_t(d,k).
-void stack_rotations(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
-                     RowMatrixX3d& Z);
-
-// y = H Z + c, rows in parallel.
-void right_hand_side(const SparseMatrixRowMajor& H, const RowMatrixX3d& Z,
-                     const Eigen::MatrixXd& c, Eigen::MatrixXd& y);
 
 }  // namespace edgedeform

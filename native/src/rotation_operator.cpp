@@ -1,0 +1,42 @@
+#include "edgedeform/rotation_operator.h"
+
+namespace edgedeform {
+
+RotationOperator::RotationOperator(const SparseMatrixRowMajor& H) {
+  offsets_.assign(1, 0);
+  offsets_.reserve(static_cast<size_t>(H.rows()) + 1);
+  term_.reserve(static_cast<size_t>(H.nonZeros() / 3));
+  coef_.reserve(static_cast<size_t>(2 * H.nonZeros()));
+  for (Eigen::Index r = 0; r < H.rows(); ++r) {
+    int current = -1;
+    for (SparseMatrixRowMajor::InnerIterator it(H, r); it; ++it) {  // columns ascend
+      const int t = static_cast<int>(it.col() / 6), k = static_cast<int>(it.col() % 6);
+      if (t != current) {
+        current = t;
+        term_.push_back(t);
+        coef_.insert(coef_.end(), 6, 0.0);
+      }
+      coef_[coef_.size() - 6 + static_cast<size_t>(k)] = it.value();
+    }
+    offsets_.push_back(static_cast<int>(term_.size()));
+  }
+}
+
+void RotationOperator::apply(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
+                             const Eigen::MatrixXd& c, Eigen::MatrixXd& y) const {
+  const int n = rows();
+  y.resize(n, 3);
+#pragma omp parallel for schedule(dynamic, 1024) if (n > 4096)
+  for (int r = 0; r < n; ++r) {
+    Eigen::Vector3d sum = c.row(r).transpose();
+    for (int b = offsets_[static_cast<size_t>(r)]; b < offsets_[static_cast<size_t>(r) + 1]; ++b) {
+      const int t = term_[static_cast<size_t>(b)];
+      const double* h = &coef_[6 * static_cast<size_t>(b)];
+      const Eigen::Vector3d g(h[0] + scale(t) * h[3], h[1] + scale(t) * h[4], h[2] + scale(t) * h[5]);
+      sum.noalias() += rotation[static_cast<size_t>(t)] * g;
+    }
+    y.row(r) = sum.transpose();
+  }
+}
+
+}  // namespace edgedeform
