@@ -1,0 +1,62 @@
+"""The package surface of docs/api.md: build info, defaults, result fields, warm start."""
+
+import numpy as np
+import pytest
+
+import edgedeform as ed
+from _meshes import SPOT, diag, lift, load
+from _run import deformer
+
+
+def test_build_info():
+    info = ed.build_info()
+    assert info["solver"] in ("cholmod-supernodal", "eigen-simplicial-ldlt")
+    assert isinstance(info["openmp"], bool) and info["threads"] >= 1
+    for key in ("version", "eigen", "compiler"):
+        assert isinstance(info[key], str) and info[key]
+    assert issubclass(ed.FactorizationError, RuntimeError)
+
+
+@pytest.mark.parametrize("domain", ["edge", "primal"])
+def test_read_only_sizes_and_default_stiffness(domain):
+    V, F = load(SPOT)
+    d = ed.Deformer(V, F, domain=domain)
+    assert (d.n_vertices, d.n_faces, d.domain) == (len(V), len(F), domain)
+    assert np.all(np.asarray(d.node_stiffness()) == 0.5)       # before set_stiffness
+    with pytest.raises(AttributeError):
+        d.n_vertices = 3
+
+
+def test_result_fields_and_factorization_reuse():
+    V, F = load(SPOT)
+    handles, static, targets = lift(V, amount=0.1)
+    d = deformer(V, F, "edge", 0.5, handles, static)
+    r = d.solve(targets, max_iterations=6, tolerance=0.0)
+    assert r.iterations == 6 and len(r.energies) == 6
+    assert r.initial_energy is None and r.converged is False
+    assert r.factor_ms > 0 and r.local_ms > 0 and r.solve_ms > 0 and r.rhs_ms >= 0
+    assert isinstance(r.warnings, list)
+    assert r.free_vertices == len(V) - len(handles) - len(static)
+    assert r.active_nodes <= d.n_nodes
+    r2 = d.solve(targets + 0.01, max_iterations=2)
+    assert r2.factor_ms == 0                      # same constraints and stiffness: reused
+    d.set_stiffness(0.7)
+    assert d.solve(targets, max_iterations=1).factor_ms > 0
+
+
+@pytest.mark.parametrize("domain", ["edge", "primal"])
+def test_warm_start_continues_the_iteration(domain):
+    """Five iterations, then five more warm-started, equal ten in one call (the rigid-
+    convergence test counts iterations this way)."""
+    V, F = load(SPOT)
+    handles, static, targets = lift(V, amount=0.2)
+    a = deformer(V, F, domain, 0.5, handles, static)
+    ra = a.solve(targets, max_iterations=10, tolerance=0.0, warm_start=False)
+    b = deformer(V, F, domain, 0.5, handles, static)
+    b.solve(targets, max_iterations=5, tolerance=0.0, warm_start=False)
+    rb = b.solve(targets, max_iterations=5, tolerance=0.0, warm_start=True)
+    np.testing.assert_allclose(rb.positions, ra.positions, rtol=0, atol=1e-12 * diag(V))
+    np.testing.assert_allclose(rb.energies, ra.energies[5:], rtol=1e-10)
+    # and warm_start=False really starts over
+    rc = b.solve(targets, max_iterations=10, tolerance=0.0, warm_start=False)
+    np.testing.assert_allclose(rc.positions, ra.positions, rtol=0, atol=1e-12 * diag(V))
