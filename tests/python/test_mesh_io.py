@@ -1,5 +1,7 @@
 """edgedeform.mesh_io: file vertex order kept, polygons fan-triangulated, clear errors."""
 
+import os
+
 import numpy as np
 import pytest
 
@@ -41,6 +43,9 @@ def test_write_read_round_trip_is_exact(tmp_path, ext):
     np.testing.assert_array_equal(X2, X)
     np.testing.assert_array_equal(F2, F)
     assert sorted(p.name for p in tmp_path.iterdir()) == [f"m{ext}"]   # no temp left
+    umask = os.umask(0)
+    os.umask(umask)
+    assert (tmp_path / f"m{ext}").stat().st_mode & 0o777 == 0o666 & ~umask
 
 
 def test_quads_and_polygons_fan_triangulated(tmp_path):

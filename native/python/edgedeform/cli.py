@@ -162,7 +162,7 @@ def deform(args):
         "energies": [float(e) for e in r.energies],
         "converged": bool(r.converged),
         "free_vertices": int(r.free_vertices),
-        "solve_ms": round(wall_ms, 3),
+        "wall_ms": round(wall_ms, 3),
         "warnings": list(r.warnings),
     }
     return report

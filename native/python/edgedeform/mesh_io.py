@@ -183,6 +183,10 @@ def write_mesh(path, V, F):
         # PLY has no 64-bit integers (meshio would warn and cast)
         cells = F.astype(np.int32) if ext == ".ply" else F
         meshio.write(tmp, meshio.Mesh(V, [("triangle", cells)]), file_format=ext[1:])
+        # mkstemp makes the file private (0600); give it the mode a plain open() would
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
