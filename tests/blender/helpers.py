@@ -138,8 +138,6 @@ def reset_scene():
         bpy.data.objects.remove(ob)
     for me in list(bpy.data.meshes):
         bpy.data.meshes.remove(me)
-    for k in list(bpy.data.shape_keys):
-        pass  # freed with their meshes
     session.clear()
     bpy.context.scene.frame_set(1)
 

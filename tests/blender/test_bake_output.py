@@ -5,7 +5,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from helpers import (Matrix, add_group, add_handle, bpy, key_positions, load,  # noqa: E402
+from helpers import (add_group, add_handle, bpy, key_positions, load,  # noqa: E402
                      make_object, np, positions, run, transform)
 
 

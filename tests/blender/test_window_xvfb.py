@@ -12,6 +12,7 @@ event loop handles each simulated event between steps.
 
 import os
 import sys
+import threading
 import time
 import traceback
 
@@ -297,12 +298,30 @@ def steps():
     print("grab: ok")
 
 
+def watchdog(seconds=240):
+    """If the event loop itself stalls, timers never run: end the process from a thread
+    (no bpy here) so the test fails instead of hanging."""
+    def fire():
+        print("WINDOW TEST STALLED after %d s (last step: %s)" % (seconds, LAST[0]))
+        sys.stdout.flush()
+        os._exit(2)
+    timer = threading.Timer(seconds, fire)
+    timer.daemon = True
+    timer.start()
+
+
+LAST = ["start"]
+
+
 def main():
+    watchdog()
     gen = steps()
     started = time.time()
 
     def tick():
         try:
+            frame = gen.gi_frame
+            LAST[0] = "line %d" % frame.f_lineno if frame is not None else "start"
             next(gen)
         except StopIteration:
             print("ALL WINDOW TESTS PASSED")
