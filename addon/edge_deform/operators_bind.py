@@ -56,7 +56,7 @@ class EDGE_DEFORM_OT_solve(bpy.types.Operator):
     warm_start: BoolProperty(
         name="Warm Start", default=False,
         description="Start from the previous result (else from the naive Laplacian solve, "
-                    "so the result depends only on the inputs)")
+                    "repeatable for the same inputs)")
 
     @classmethod
     def poll(cls, context):

@@ -12,7 +12,7 @@ import time
 
 import bpy
 
-from . import engine, mesh_io, native
+from . import engine, mesh_io
 from .op_common import poll_mesh
 
 TICK = 1.0 / 60.0
