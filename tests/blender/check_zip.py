@@ -24,6 +24,10 @@ assert any(n.startswith("edgedeform/_core") and n.endswith(".so") for n in ext_n
 manifest = tomllib.loads(ext.read("blender_manifest.toml").decode())
 assert manifest["id"] == "edge_deform" and manifest["type"] == "add-on"
 assert manifest["blender_version_min"] == "4.2.0" and manifest["platforms"]
+# Rules Blender 4.2's `extension validate` applies to these fields.
+assert manifest["schema_version"] == "1.0.0" and manifest["version"].count(".") == 2
+assert len(manifest["tagline"]) <= 64 and manifest["tagline"][-1] not in ".!?"
+assert all(lic.startswith("SPDX:") for lic in manifest["license"])
 
 bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
 addon_utils.enable("edge_deform", default_set=True, handle_error=None)
