@@ -205,12 +205,14 @@ def markdown(info, results):
                   % (verdict, r["updates_per_s"], r["with_depsgraph_per_s"]),
                   "", "Where the time goes at 50k, edge: the package's `solve` call is "
                   "%.1f of %.1f ms (its own counters: local %.1f, right side %.1f, "
-                  "back-substitution %.1f; the rest of the call is the warm-start fit and "
-                  "the energy); the add-on's part (targets %.2f ms, shape-key write %.1f ms) "
+                  "back-substitution %.1f; the remaining %.1f ms fall outside them), "
+                  "the add-on's part (targets %.2f ms, shape-key write %.1f ms) "
                   "is %.0f %%. Blender's depsgraph then spends %.1f ms evaluating the shape "
                   "key before drawing." % (
                       r["solve_ms"], r["update_ms"], r["local_ms"], r["rhs_ms"],
-                      r["backsub_ms"], r["targets_ms"], r["write_ms"],
+                      r["backsub_ms"],
+                      r["solve_ms"] - r["local_ms"] - r["rhs_ms"] - r["backsub_ms"],
+                      r["targets_ms"], r["write_ms"],
                       100.0 * (r["targets_ms"] + r["write_ms"]) / r["update_ms"],
                       r["depsgraph_ms"])]
     return "\n".join(lines)
