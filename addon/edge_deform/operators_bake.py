@@ -17,6 +17,9 @@ def on_frame_change(scene, depsgraph=None):
     """Re-solve objects with 'Deform on Frame Change' (warm-started from the last frame)."""
     if _state["baking"]:
         return
+    # A render job may call this off the main thread; bpy data must not be written then.
+    if hasattr(bpy.app, "is_job_running") and bpy.app.is_job_running('RENDER'):
+        return
     # During playback the groups cannot change: skip re-reading them every frame.
     screen = getattr(bpy.context, "screen", None)
     playing = bool(screen is not None and screen.is_animation_playing)
