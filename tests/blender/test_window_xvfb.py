@@ -135,6 +135,12 @@ def steps():
     tap('WHEELUPMOUSE')
     yield from until(lambda: abs(plane().edge_deform.stiffness - 0.55) < 1e-6)
     assert abs(plane().edge_deform.stiffness - 0.55) < 1e-6, "wheel changes λ"
+    tap('NUMPAD_MINUS')
+    tap('NUMPAD_MINUS')
+    yield from until(lambda: abs(plane().edge_deform.stiffness - 0.45) < 1e-6)
+    tap('NUMPAD_PLUS')
+    yield from until(lambda: abs(plane().edge_deform.stiffness - 0.55) < 1e-6)
+    assert abs(plane().edge_deform.stiffness - 0.55) < 1e-6, "+/- change λ"
     tap('TAB')
     yield from until(lambda: plane().edge_deform.domain == 'PRIMAL')
     assert plane().edge_deform.domain == 'PRIMAL', "Tab toggles the domain"
