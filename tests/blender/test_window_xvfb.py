@@ -139,6 +139,7 @@ def steps():
     tap('NUMPAD_MINUS')
     yield from until(lambda: abs(plane().edge_deform.stiffness - 0.45) < 1e-6)
     tap('NUMPAD_PLUS')
+    tap('NUMPAD_PLUS')
     yield from until(lambda: abs(plane().edge_deform.stiffness - 0.55) < 1e-6)
     assert abs(plane().edge_deform.stiffness - 0.55) < 1e-6, "+/- change λ"
     tap('TAB')
