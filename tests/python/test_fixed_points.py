@@ -1,7 +1,6 @@
 """Shapes the energy cannot improve on: rest (zero displacement), rigid motions, and
 (for lambda = 0) uniform scale. DESIGN section 2, issue 2 "Tests"."""
 
-import numpy as np
 import pytest
 
 from _meshes import ALL, diag, lift, load, rigid, two_ends
