@@ -211,26 +211,29 @@ AssembledSystem assemble_system(const ConstrainedSystem& sys, const Eigen::Vecto
 
   // The J1 term is kept even when every W1 is 0: its pattern lies inside the J2 term's, so
   // the symbolic analysis survives any change of lambda below 1.
-  out.B1 = SparseMatrix(sys.J1f.transpose()) * w1.asDiagonal();
-  out.A = out.B1 * sys.J1f;
+  const SparseMatrix B1 = SparseMatrix(sys.J1f.transpose()) * w1.asDiagonal();
+  SparseMatrix B2;
+  out.A = B1 * sys.J1f;
+  out.K_fixed = B1 * sys.J1c;
   if (out.laplacian_term) {
-    out.B2 = SparseMatrix(sys.J2f.transpose()) * w2.asDiagonal();
-    out.A += out.B2 * sys.J2f;
+    B2 = SparseMatrix(sys.J2f.transpose()) * w2.asDiagonal();
+    out.A += B2 * sys.J2f;
+    out.K_fixed += B2 * sys.J2c;
   }
 
   // H: column 6t+k (k = 0..2) carries R_t(d,k) through the 1-form term, column 6t+3+k
   // carries s_t R_t(d,k) through the Laplacian term. A term's six columns are adjacent, so
   // a row of the product reads Z in a few cache lines per term.
   std::vector<Eigen::Triplet<double>> h;
-  h.reserve(static_cast<size_t>(3 * (out.B1.nonZeros() + out.B2.nonZeros())));
+  h.reserve(static_cast<size_t>(3 * (B1.nonZeros() + B2.nonZeros())));
   for (int t = 0; t < T; ++t) {
     for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a) {
       if (w1(a) == 0.0) continue;
-      for (SparseMatrix::InnerIterator it(out.B1, a); it; ++it)
+      for (SparseMatrix::InnerIterator it(B1, a); it; ++it)
         for (int k = 0; k < 3; ++k) h.emplace_back(static_cast<int>(it.row()), 6 * t + k, it.value() * st.rest_edge(a, k));
     }
     if (out.laplacian_term && w2(t) != 0.0)
-      for (SparseMatrix::InnerIterator it(out.B2, t); it; ++it)
+      for (SparseMatrix::InnerIterator it(B2, t); it; ++it)
         for (int k = 0; k < 3; ++k)
           h.emplace_back(static_cast<int>(it.row()), 6 * t + 3 + k, it.value() * st.rest_laplacian(t, k));
   }
@@ -240,10 +243,5 @@ AssembledSystem assemble_system(const ConstrainedSystem& sys, const Eigen::Vecto
   return out;
 }
 
-Eigen::MatrixXd fixed_vertex_rhs(const ConstrainedSystem& sys, const AssembledSystem& as, const Eigen::MatrixXd& xc) {
-  Eigen::MatrixXd c = -(as.B1 * (sys.J1c * xc));
-  if (as.laplacian_term) c.noalias() -= as.B2 * (sys.J2c * xc);
-  return c;
-}
 
 }  // namespace edgedeform

@@ -61,8 +61,45 @@ Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, 
 void Deformer::set_constraints(const ConstraintSets& sets) {
   auto system = std::make_unique<ConstrainedSystem>(
       build_constrained_system(graph_, rest_, topology_.edges, referenced_, sets));
+  keep_last_fit_per_node();
   system_ = std::move(system);
   assembled_.reset();
+}
+
+void Deformer::keep_last_fit_per_node() {
+  if (!last_fit_valid_) return;
+  const std::vector<int>& nodes = system_->term_nodes;
+  for (size_t t = 0; t < nodes.size(); ++t) {
+    const auto i = static_cast<size_t>(nodes[t]);
+    node_rotation_[i] = last_fit_.rotation[t];
+    node_right_vectors_[i] = last_fit_.right_vectors[t];
+    node_scale_(nodes[t]) = last_fit_.scale(static_cast<Eigen::Index>(t));
+  }
+  has_previous_ = true;
+  last_fit_valid_ = false;
+}
+
+LocalFit Deformer::starting_fit(const SolveOptions& options) {
+  const ConstrainedSystem& sys = *system_;
+  const auto T = static_cast<size_t>(sys.n_terms());
+  LocalFit fit;
+  if (options.warm_start && !options.initial && last_fit_valid_) {  // live editing: no copies
+    last_fit_valid_ = false;
+    return std::move(last_fit_);
+  }
+  // A cold start (or an initial shape) begins every SVD at V = I, so that it does not depend
+  // on what this Deformer solved before.
+  fit.rotation.assign(T, Eigen::Matrix3d::Identity());
+  fit.right_vectors.assign(T, Eigen::Matrix3d::Identity());
+  fit.scale = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(T));
+  if (options.warm_start && !options.initial && has_previous_)  // constraints changed since
+    for (size_t t = 0; t < T; ++t) {
+      const auto i = static_cast<size_t>(sys.term_nodes[t]);
+      fit.rotation[t] = node_rotation_[i];
+      fit.right_vectors[t] = node_right_vectors_[i];
+      fit.scale(static_cast<Eigen::Index>(t)) = node_scale_(sys.term_nodes[t]);
+    }
+  return fit;
 }
 
 void Deformer::set_stiffness(double lambda) {
@@ -105,7 +142,7 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   RowMatrixX3d constrained = rest_;
   for (size_t h = 0; h < sys.handles.size(); ++h) constrained.row(sys.handles[h]) = targets.row(static_cast<Eigen::Index>(h));
   result.positions = constrained;
-  const int nf = sys.n_free(), nc = sys.n_fixed(), T = sys.n_terms();
+  const int nf = sys.n_free(), nc = sys.n_fixed();
   if (nf == 0) {
     result.converged = true;
     return result;
@@ -113,27 +150,16 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
 
   RowMatrixX3d x_local(nf + nc, 3);
   for (int k = 0; k < nc; ++k) x_local.row(nf + k) = constrained.row(sys.fixed_vertices[static_cast<size_t>(k)]);
-  const Eigen::MatrixXd c = fixed_vertex_rhs(sys, as, x_local.bottomRows(nc));
+  const Eigen::MatrixXd c = -(as.K_fixed * x_local.bottomRows(nc));  // the fixed vertices' share
 
   // Rotations and scales of the first global step.
-  LocalFit fit;
-  fit.right_vectors.resize(static_cast<size_t>(T));
-  for (int t = 0; t < T; ++t)
-    fit.right_vectors[static_cast<size_t>(t)] = node_right_vectors_[static_cast<size_t>(sys.term_nodes[static_cast<size_t>(t)])];
+  LocalFit fit = starting_fit(options);
   RowMatrixX3d p;
   if (options.initial) {
     for (int k = 0; k < nf; ++k) x_local.row(k) = options.initial->row(sys.free_vertices[static_cast<size_t>(k)]);
     stencil_node_positions(sys, x_local, p);
     fit_local(sys.stencil, p, as.term_lambda, fit);
     result.initial_energy = fit.energy;
-  } else {
-    fit.rotation.assign(static_cast<size_t>(T), Eigen::Matrix3d::Identity());
-    fit.scale = Eigen::VectorXd::Ones(T);
-    if (options.warm_start && has_previous_)
-      for (int t = 0; t < T; ++t) {
-        fit.rotation[static_cast<size_t>(t)] = node_rotation_[static_cast<size_t>(sys.term_nodes[static_cast<size_t>(t)])];
-        fit.scale(t) = node_scale_(sys.term_nodes[static_cast<size_t>(t)]);
-      }
   }
 
   // Below this the energy is round-off of a shape that is already at rest (or rigidly moved).
@@ -165,12 +191,8 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   }
 
   for (int k = 0; k < nf; ++k) result.positions.row(sys.free_vertices[static_cast<size_t>(k)]) = x_local.row(k);
-  for (int t = 0; t < T; ++t) {
-    node_rotation_[static_cast<size_t>(sys.term_nodes[static_cast<size_t>(t)])] = fit.rotation[static_cast<size_t>(t)];
-    node_scale_(sys.term_nodes[static_cast<size_t>(t)]) = fit.scale(t);
-    node_right_vectors_[static_cast<size_t>(sys.term_nodes[static_cast<size_t>(t)])] = fit.right_vectors[static_cast<size_t>(t)];
-  }
-  has_previous_ = true;
+  last_fit_ = std::move(fit);  // the next warm start begins here
+  last_fit_valid_ = true;
   return result;
 }
 

@@ -1,5 +1,6 @@
 #include "edgedeform/rotation_fit.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -40,13 +41,18 @@ Eigen::Matrix3d minimal_rotation(const Eigen::Vector3d& u, const Eigen::Vector3d
 RotationFit fit_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V) {
   Eigen::Matrix3d A = S * V;
   constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  // Jacobi converges quadratically: a sweep whose largest cosine was c leaves about c^2.
+  // So a sweep that started below sqrt(kOrthogonal) is the last one, and no extra sweep is
+  // spent only on checking.
+  const double last_sweep_cosine = std::sqrt(kOrthogonal);
   for (int sweep = 0; sweep < 12; ++sweep) {
-    bool rotated = false;
+    double largest = 0.0;
     for (const auto& pair : kPairs) {
       const int p = pair[0], q = pair[1];
       const double alpha = A.col(p).squaredNorm(), beta = A.col(q).squaredNorm(), gamma = A.col(p).dot(A.col(q));
-      if (!(std::abs(gamma) > kOrthogonal * std::sqrt(alpha * beta))) continue;
-      rotated = true;
+      const double scale = std::sqrt(alpha * beta);
+      if (!(std::abs(gamma) > kOrthogonal * scale)) continue;
+      largest = std::max(largest, std::abs(gamma) / scale);
       const double zeta = (beta - alpha) / (2.0 * gamma);
       const double t = (zeta >= 0.0 ? 1.0 : -1.0) / (std::abs(zeta) + std::sqrt(1.0 + zeta * zeta));
       const double c = 1.0 / std::sqrt(1.0 + t * t), s = c * t;
@@ -56,7 +62,7 @@ RotationFit fit_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V) {
       V.col(p) = c * vp - s * V.col(q);
       V.col(q) = s * vp + c * V.col(q);
     }
-    if (!rotated) break;
+    if (largest < last_sweep_cosine) break;
   }
   const Eigen::Vector3d sigma(A.col(0).norm(), A.col(1).norm(), A.col(2).norm());
   int i1 = 0;

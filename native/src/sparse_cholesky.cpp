@@ -49,6 +49,11 @@ struct SparseCholesky::Impl {
   Impl() {
     cholmod_start(&common);
     common.supernodal = CHOLMOD_SUPERNODAL;
+    // Try AMD and METIS and keep the ordering with less fill: on these surface meshes METIS
+    // saves ~10% of the factor, and every iteration's back-substitution reads all of it.
+    common.nmethods = 2;
+    common.method[0].ordering = CHOLMOD_AMD;
+    common.method[1].ordering = CHOLMOD_METIS;
     common.print = 0;
     common.error_handler = nullptr;
   }

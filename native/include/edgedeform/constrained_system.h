@@ -54,16 +54,12 @@ ConstrainedSystem build_constrained_system(const NodeGraph& graph, const RowMatr
 struct AssembledSystem {
   SparseMatrix A;                 // nf x nf, symmetric
   RotationOperator H;             // the H Z product, nf x (#terms rotations and scales)
-  SparseMatrix B1;                // J1f^T W1  (nf x #arcs)
-  SparseMatrix B2;                // J2f^T W2  (nf x #terms), empty without the Laplacian term
+  SparseMatrix K_fixed;           // J1f^T W1 J1c + J2f^T W2 J2c: A's coupling to x_c (nf x nc)
   Eigen::VectorXd term_lambda;    // #terms
   bool laplacian_term = false;    // some term has lambda < 1
 };
 
 AssembledSystem assemble_system(const ConstrainedSystem& system, const Eigen::VectorXd& node_lambda);
 
-// c = -(B1 J1c + B2 J2c) x_c : the fixed vertices' share of the right side.
-Eigen::MatrixXd fixed_vertex_rhs(const ConstrainedSystem& system, const AssembledSystem& assembled,
-                                 const Eigen::MatrixXd& fixed_positions);
 
 }  // namespace edgedeform

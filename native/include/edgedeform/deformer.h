@@ -62,6 +62,10 @@ class Deformer {
 
  private:
   void ensure_factored(SolveResult& result);
+  // Rotations, scales and SVD frames the first global step starts from (see SolveOptions).
+  LocalFit starting_fit(const SolveOptions& options);
+  // Stores the last fit per global node, before the terms change with the constraints.
+  void keep_last_fit_per_node();
   RowMatrixX3d start_positions(const RowMatrixX3d& targets) const;
 
   RowMatrixX3d rest_;
@@ -74,7 +78,10 @@ class Deformer {
   std::unique_ptr<ConstrainedSystem> system_;
   std::unique_ptr<AssembledSystem> assembled_;  // null when stiffness or constraints changed
   SparseCholesky cholesky_;
-  // Warm start: the rotations and scales fitted to the last result, per global node.
+  // Warm start. The fit of the last result, per term of the current system (live editing
+  // reuses it as it is), and per global node once the constraints change.
+  LocalFit last_fit_;
+  bool last_fit_valid_ = false;
   std::vector<Eigen::Matrix3d> node_rotation_;
   Eigen::VectorXd node_scale_;
   std::vector<Eigen::Matrix3d> node_right_vectors_;  // starts the next SVD of each node
