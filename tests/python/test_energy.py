@@ -25,7 +25,9 @@ def test_lambda1_energy_never_increases(name, domain, edit):
     d = deformer(V, F, domain, 1.0, handles, static)
     r = d.solve(targets, max_iterations=25, tolerance=0.0)
     E = np.asarray(r.energies)
-    assert len(E) == r.iterations == 25
+    assert len(E) == r.iterations
+    # tolerance 0 stops early only where the energy no longer changes at all
+    assert r.iterations == 25 or (r.converged and E[-1] == E[-2])
     assert np.all(np.isfinite(E)) and E[0] > 0
     rises = np.diff(E)
     # allow round-off only: 1e-12 of the first energy
