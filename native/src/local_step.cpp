@@ -54,7 +54,7 @@ Eigen::Matrix3d unweighted_covariance(const NodeStencil& st, const RowMatrixX3d&
 
 // One term's fit: R_t, s_t and its energy.
 double fit_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int t, Eigen::Matrix3d& R,
-                Eigen::Matrix3d& V, double& s) {
+                Eigen::Matrix3d& V, double& s, bool R_is_previous) {
   const Eigen::Vector3d pi = p.row(st.self[static_cast<size_t>(t)]).transpose();
   Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
   Eigen::Vector3d laplacian = Eigen::Vector3d::Zero();
@@ -67,7 +67,8 @@ double fit_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int
   }
   const double rest_norm = st.rest_norm(t);
   if (rest_norm > 0.0) {
-    const RotationFit rf = fit_rotation(S, V);
+    const Eigen::Matrix3d previous = R;  // the last iteration's rotation of this term
+    const RotationFit rf = fit_rotation(S, V, R_is_previous ? &previous : nullptr);
     R = rf.R;
     if (rf.degenerate) R = rotation_about_axis(rf.u1, rf.v1, unweighted_covariance(st, p, pi, begin, end));
     s = std::clamp((R * S).trace() / rest_norm, kMinScale, kMaxScale);
@@ -92,6 +93,7 @@ double fit_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int
 
 void fit_local(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::VectorXd& lambda, LocalFit& fit) {
   const int T = st.n_terms;
+  const bool warm = fit.rotation.size() == static_cast<size_t>(T);  // rotations to start from
   fit.rotation.resize(static_cast<size_t>(T));
   fit.scale.resize(T);
   fit.term_energy.resize(T);
@@ -100,7 +102,7 @@ void fit_local(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::Vector
   for (int t = 0; t < T; ++t) {
     double s = 1.0;
     fit.term_energy(t) = fit_term(st, p, lambda(t), t, fit.rotation[static_cast<size_t>(t)],
-                                  fit.right_vectors[static_cast<size_t>(t)], s);
+                                  fit.right_vectors[static_cast<size_t>(t)], s, warm);
     fit.scale(t) = s;
   }
   fit.energy = fit.term_energy.sum();  // a fixed order: the same energy on every run

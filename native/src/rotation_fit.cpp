@@ -38,7 +38,53 @@ Eigen::Matrix3d minimal_rotation(const Eigen::Vector3d& u, const Eigen::Vector3d
 // proper rotation is R = v1 u1^T + v2 u2^T + (v1 x v2)(u1 x u2)^T: both U and V are completed
 // to rotations, which is exactly the reflection fix, and it stays defined for rank-2 S (the
 // flat neighbourhoods that are everywhere on a plane).
-RotationFit fit_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V) {
+bool refine_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& R) {
+  // f(w) = trace(exp([w]) N), N = R S, has gradient g = (N12-N21, N20-N02, N01-N10) and
+  // Hessian -(trace(N) I - sym(N)) at w = 0; the Newton step is w = H^-1 g.
+  Eigen::Matrix3d Rn = R;
+  Eigen::Matrix3d N = Rn * S;
+  for (int step = 0; step < 4; ++step) {
+    const Eigen::Vector3d g(N(1, 2) - N(2, 1), N(2, 0) - N(0, 2), N(0, 1) - N(1, 0));
+    const Eigen::Matrix3d H = N.trace() * Eigen::Matrix3d::Identity() - 0.5 * (N + N.transpose());
+    // H must be clearly positive definite (a maximum, and not a degenerate S): LDL^T pivots.
+    const double floor = kDegenerateRatio * H.trace();
+    const double d0 = H(0, 0);
+    if (!(d0 > floor)) return false;
+    const double l10 = H(1, 0) / d0, l20 = H(2, 0) / d0;
+    const double d1 = H(1, 1) - l10 * H(1, 0);
+    if (!(d1 > floor)) return false;
+    const double l21 = (H(2, 1) - l20 * H(1, 0)) / d1;
+    const double d2 = H(2, 2) - l20 * H(2, 0) - l21 * l21 * d1;
+    if (!(d2 > floor)) return false;
+    Eigen::Vector3d w(g(0), g(1) - l10 * g(0), 0.0);  // solve L D L^T w = g
+    w(2) = g(2) - l20 * w(0) - l21 * w(1);
+    w(0) /= d0;
+    w(1) /= d1;
+    w(2) /= d2;
+    w(1) -= l21 * w(2);
+    w(0) -= l10 * w(1) + l20 * w(2);
+    const double size = w.norm();
+    if (step == 0 && size > 0.3) return false;  // far: quadratic convergence not yet there
+    // Cayley step: a rotation by ~|w| (to third order), exactly orthogonal.
+    const Eigen::Vector3d c = 0.5 * w;
+    const Eigen::Matrix3d C = cross_matrix(c);
+    const Eigen::Matrix3d step_rotation = Eigen::Matrix3d::Identity() + (2.0 / (1.0 + c.squaredNorm())) * (C + C * C);
+    Rn = step_rotation * Rn;
+    if (size < 1e-7) {  // the next error would be ~size^2: done
+      R = Rn;
+      return true;
+    }
+    N = step_rotation * N;
+  }
+  return false;
+}
+
+RotationFit fit_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V, const Eigen::Matrix3d* near) {
+  if (near) {
+    RotationFit fit;
+    fit.R = *near;
+    if (refine_rotation(S, fit.R)) return fit;
+  }
   Eigen::Matrix3d A = S * V;
   constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
   // Jacobi converges quadratically: a sweep whose largest cosine was c leaves about c^2.

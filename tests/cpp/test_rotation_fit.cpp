@@ -89,3 +89,35 @@ TEST(RotationAboutAxis, WithoutInformationItIsTheMinimalRotation) {
   EXPECT_LT((R * u.cross(v) - u.cross(v)).norm(), 1e-14);  // the axis u x v stays put
   EXPECT_NEAR(R.determinant(), 1.0, 1e-14);
 }
+
+TEST(RefineRotation, FromANearbyRotationReachesTheSvdOptimum) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g;
+  int refined = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    Eigen::Matrix3d S;
+    for (int k = 0; k < 9; ++k) S.data()[k] = g(rng);
+    S += 3.0 * Eigen::Matrix3d::Identity();  // well conditioned, optimum near I
+    const Eigen::Matrix3d reference = reference_rotation(S);
+    Eigen::Matrix3d R = Eigen::AngleAxisd(0.05, Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized()) * reference;
+    if (!refine_rotation(S, R)) continue;
+    ++refined;
+    EXPECT_LT((R - reference).norm(), 1e-12) << "trial " << trial;
+    EXPECT_LT((R * R.transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-13);
+  }
+  EXPECT_GT(refined, 450);  // a close start is the common case and must not fall back
+}
+
+TEST(RefineRotation, DeclinesFarStartsAndDegenerateMatrices) {
+  const Eigen::Matrix3d S = Eigen::Vector3d(3, 2, 1).asDiagonal();
+  Eigen::Matrix3d R = Eigen::AngleAxisd(1.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d far = R;
+  EXPECT_FALSE(refine_rotation(S, R));
+  EXPECT_EQ(R, far);  // untouched when declined
+  const Eigen::Vector3d line(1, 2, 0.5);
+  R.setIdentity();
+  EXPECT_FALSE(refine_rotation(line * line.transpose(), R));  // rank 1: spin undetermined
+  // fit_rotation falls back to the SVD in both cases and still gives the optimum.
+  Eigen::Matrix3d V = Eigen::Matrix3d::Identity();
+  EXPECT_LT((fit_rotation(S, V, &far).R - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+}

@@ -48,7 +48,8 @@ constexpr double kMinScale = 1e-2;
 constexpr double kMaxScale = 1e2;
 
 // Fits R_i, s_i to `node_positions` for every term (in parallel) and evaluates the energy
-// with term stiffness `term_lambda` (#terms).
+// with term stiffness `term_lambda` (#terms). When `fit` already holds one rotation per
+// term (the previous iteration's), each fit starts from it.
 void fit_local(const NodeStencil& stencil, const RowMatrixX3d& node_positions,
                const Eigen::VectorXd& term_lambda, LocalFit& fit);
 

@@ -18,7 +18,14 @@ struct RotationFit {
 // For S = U Sigma V^T: R = V U^T, with the column of the smallest singular value flipped when
 // det(V U^T) < 0. `V` is the starting guess of the right singular vectors (any orthogonal
 // matrix; the previous iteration's makes this cheap) and returns the converged ones.
-RotationFit fit_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V);
+// With `near` (the previous iteration's rotation of this node), Newton's method on SO(3)
+// is tried first: from a close start it reaches the same optimum in two or three cheap
+// steps; far starts and degenerate S go to the SVD.
+RotationFit fit_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V, const Eigen::Matrix3d* near = nullptr);
+
+// Newton's method for max trace(R S) over rotations, from `R` (updated in place). Returns
+// false, leaving R as it was, when the start is far or the optimum is not well defined.
+bool refine_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& R);
 
 // For a degenerate fit: among the rotations with R u1 = v1, the one maximizing
 // trace(R tie_breaker) (the minimal rotation u1 -> v1 when the tie-breaker does not decide).
