@@ -83,6 +83,10 @@ class EDGE_DEFORM_PT_main(bpy.types.Panel):
         box = layout.box()
         box.label(text="Solver", icon='SETTINGS')
         box.prop(s, "domain", expand=True)
+        if s.domain == 'PRIMAL' and not s.stiffness_group and s.stiffness < 0.1:
+            # Measured: the primal graph with lambda ~ 0 can drift and inflate (docs/benchmarks.md).
+            box.label(text="Primal with λ near 0 may inflate: use Edge Graph or λ ≥ 0.1",
+                      icon='ERROR')
         row = box.row(align=True)
         row.prop(s, "iterations")
         row.prop(s, "tolerance")
