@@ -37,3 +37,17 @@ TEST(FitLocal, RecoversRotationAndScaleOfASimilarity) {
     EXPECT_LT(fit.energy, 1e-20 * st.rest_norm.sum());
   }
 }
+
+TEST(FitLocal, ScaleIsClampedToAPlausibleRange) {
+  const auto m = test::read_off("cgal_dino.off");
+  const auto topo = build_edge_topology(m.F, static_cast<int>(m.V.rows()));
+  const auto g = build_node_graph(m.V, m.F, topo, Domain::Edge, true);
+  std::vector<int> all(g.n_nodes);
+  for (int i = 0; i < g.n_nodes; ++i) all[i] = i;
+  const NodeStencil st = build_stencil(g, g.node_positions(m.V), all, all);
+  LocalFit fit;
+  fit_local(st, g.node_positions(RowMatrixX3d(6.0 * m.V)), Eigen::VectorXd::Zero(g.n_nodes), fit);
+  EXPECT_DOUBLE_EQ(fit.scale.maxCoeff(), kMaxScale);
+  fit_local(st, g.node_positions(RowMatrixX3d(0.1 * m.V)), Eigen::VectorXd::Zero(g.n_nodes), fit);
+  EXPECT_DOUBLE_EQ(fit.scale.minCoeff(), kMinScale);
+}
