@@ -60,3 +60,28 @@ def test_warm_start_continues_the_iteration(domain):
     # and warm_start=False really starts over
     rc = b.solve(targets, max_iterations=10, tolerance=0.0, warm_start=False)
     np.testing.assert_allclose(rc.positions, ra.positions, rtol=0, atol=1e-12 * diag(V))
+
+
+@pytest.mark.parametrize("domain", ["edge", "primal"])
+def test_cold_solve_does_not_depend_on_earlier_solves(domain):
+    """warm_start=False gives bit-identical positions on a fresh Deformer and on one that
+    has a long warm-started history (the add-on's solve() relies on it)."""
+    V, F = load("cgal_plane.off")
+    h = np.flatnonzero(V[:, 0] > 0.55)
+    s = np.flatnonzero(V[:, 0] < -0.55)
+
+    def turned(angle):
+        c, si = np.cos(angle), np.sin(angle)
+        R = np.array([[c, -si, 0], [si, c, 0], [0, 0, 1]])
+        return V[h] @ R.T + [0, 0.1, 0]
+
+    used = ed.Deformer(V, F, domain=domain)
+    used.set_constraints(handles=h, static=s)
+    for k in range(20):
+        used.solve(turned(0.05 * k), max_iterations=2)
+    fresh = ed.Deformer(V, F, domain=domain)
+    fresh.set_constraints(handles=h, static=s)
+    a = used.solve(turned(0.6), max_iterations=20, warm_start=False).positions
+    b = fresh.solve(turned(0.6), max_iterations=20, warm_start=False).positions
+    assert np.array_equal(a, b)
+    assert np.abs(a - V).max() > 0.1  # it did deform
