@@ -108,25 +108,4 @@ void fit_local(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::Vector
   fit.energy = fit.term_energy.sum();  // a fixed order: the same energy on every run
 }
 
-double stencil_energy(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::VectorXd& lambda,
-                      const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale) {
-  Eigen::VectorXd term_energy(st.n_terms);
-#pragma omp parallel for schedule(dynamic, 256) if (st.n_terms > 1024)
-  for (int t = 0; t < st.n_terms; ++t) {
-    const Eigen::Matrix3d& R = rotation[static_cast<size_t>(t)];
-    const Eigen::Vector3d pi = p.row(st.self[static_cast<size_t>(t)]).transpose();
-    Eigen::Vector3d laplacian = Eigen::Vector3d::Zero();
-    double rigid = 0.0;
-    for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a) {
-      const double w = st.weight[static_cast<size_t>(a)];
-      const Eigen::Vector3d e = pi - p.row(st.neighbour[static_cast<size_t>(a)]).transpose();
-      rigid += w * (e - R * st.rest_edge.row(a).transpose()).squaredNorm();
-      laplacian += w * e;
-    }
-    const double smooth = (laplacian - scale(t) * (R * st.rest_laplacian.row(t).transpose())).squaredNorm();
-    term_energy(t) = lambda(t) * rigid + (1.0 - lambda(t)) * smooth;
-  }
-  return term_energy.sum();
-}
-
 }  // namespace edgedeform

@@ -57,7 +57,6 @@ class Deformer {
   const NodeGraph& graph() const { return graph_; }
   const Eigen::VectorXd& node_lambda() const { return node_lambda_; }
   const Eigen::VectorXd& vertex_lambda() const { return vertex_lambda_; }
-  bool has_constraints() const { return system_ != nullptr; }
   int analyses() const { return cholesky_.analyses(); }
 
  private:

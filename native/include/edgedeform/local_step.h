@@ -56,9 +56,4 @@ constexpr double kMaxScale = 4.0;
 void fit_local(const NodeStencil& stencil, const RowMatrixX3d& node_positions,
                const Eigen::VectorXd& term_lambda, LocalFit& fit);
 
-// Energy of `node_positions` with given rotations and scales (no fitting).
-double stencil_energy(const NodeStencil& stencil, const RowMatrixX3d& node_positions,
-                      const Eigen::VectorXd& term_lambda, const std::vector<Eigen::Matrix3d>& rotation,
-                      const Eigen::VectorXd& scale);
-
 }  // namespace edgedeform
