@@ -111,8 +111,8 @@ void Deformer::set_stiffness(double lambda) {
 void Deformer::set_stiffness(const Eigen::VectorXd& vertex_lambda) {
   check_stiffness(vertex_lambda, n_vertices());
   Eigen::VectorXd node = node_stiffness(graph_, vertex_lambda);
-  if (node == node_lambda_) return;  // nothing to refactor
   vertex_lambda_ = vertex_lambda;
+  if (node == node_lambda_) return;  // the same system: keep the factorization
   node_lambda_ = std::move(node);
   assembled_.reset();
 }
