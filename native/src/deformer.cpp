@@ -59,6 +59,7 @@ Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, 
 }
 
 void Deformer::set_constraints(const ConstraintSets& sets) {
+  std::lock_guard<std::mutex> lock(mutex_);
   auto system = std::make_unique<ConstrainedSystem>(
       build_constrained_system(graph_, rest_, topology_.edges, referenced_, sets));
   keep_last_fit_per_node();
@@ -109,6 +110,7 @@ void Deformer::set_stiffness(double lambda) {
 }
 
 void Deformer::set_stiffness(const Eigen::VectorXd& vertex_lambda) {
+  std::lock_guard<std::mutex> lock(mutex_);
   check_stiffness(vertex_lambda, n_vertices());
   Eigen::VectorXd node = node_stiffness(graph_, vertex_lambda);
   vertex_lambda_ = vertex_lambda;
@@ -127,6 +129,7 @@ void Deformer::ensure_factored(SolveResult& result) {
 }
 
 SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& options) {
+  std::lock_guard<std::mutex> lock(mutex_);
   if (!system_) throw std::invalid_argument("set_constraints(handles=...) must be called before solve");
   const ConstrainedSystem& sys = *system_;
   check_solve_arguments(sys, n_vertices(), targets, options);
@@ -197,6 +200,7 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
 }
 
 double Deformer::energy(const RowMatrixX3d& X) const {
+  std::lock_guard<std::mutex> lock(mutex_);
   if (X.rows() != rest_.rows())
     throw std::invalid_argument("X has " + std::to_string(X.rows()) + " rows, expected " + std::to_string(rest_.rows()));
   check_finite(X, "X");

@@ -85,3 +85,29 @@ def test_cold_solve_does_not_depend_on_earlier_solves(domain):
     b = fresh.solve(turned(0.6), max_iterations=20, warm_start=False).positions
     assert np.array_equal(a, b)
     assert np.abs(a - V).max() > 0.1  # it did deform
+
+
+def test_threads_sharing_a_deformer_take_turns():
+    """The GIL is released while solving: concurrent calls must not corrupt the solver."""
+    import threading
+    V, F = load(SPOT)
+    handles, static, targets = lift(V)
+    d = deformer(V, F, "edge", 0.5, handles, static)
+    expected = d.solve(targets, max_iterations=5, warm_start=False).positions
+    results, errors = [], []
+
+    def work():
+        try:
+            for _ in range(5):
+                results.append(d.solve(targets, max_iterations=5, warm_start=False).positions)
+        except Exception as exc:  # pragma: no cover - reported below
+            errors.append(exc)
+
+    threads = [threading.Thread(target=work) for _ in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors
+    assert len(results) == 15
+    assert all(np.array_equal(r, expected) for r in results)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -86,6 +87,8 @@ class Deformer {
   std::vector<Eigen::Matrix3d> node_right_vectors_;  // starts the next SVD of each node
   bool has_previous_ = false;
   mutable std::unique_ptr<NodeStencil> full_stencil_;  // for energy(), built on first use
+  // The bindings release the GIL: two Python threads sharing a Deformer take turns here.
+  mutable std::mutex mutex_;
 };
 
 }  // namespace edgedeform
