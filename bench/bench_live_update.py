@@ -35,6 +35,7 @@ import numpy as np  # noqa: E402
 
 import edge_deform  # noqa: E402
 import edgedeform as ed  # noqa: E402
+from edgedeform.mesh_io import read_mesh  # noqa: E402
 from edge_deform import engine  # noqa: E402
 from machine import machine_info  # noqa: E402
 from md_section import replace_section  # noqa: E402
@@ -44,23 +45,12 @@ SIZES = {"10k": "blub_fish.obj", "50k": "koala.obj"}
 DOMAINS = ("EDGE", "PRIMAL")
 
 
-def read_obj(path):
-    V, F = [], []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("v "):
-                V.append(line.split()[1:4])
-            elif line.startswith("f "):
-                F.append([int(p.split("/")[0]) - 1 for p in line.split()[1:]])
-    return np.array(V, float), F
-
-
 def scene_for(name):
     for ob in list(bpy.data.objects):
         bpy.data.objects.remove(ob)
-    V, F = read_obj(MESHES / name)
+    V, F = read_mesh(MESHES / name)
     mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata(V.tolist(), [], F)
+    mesh.from_pydata(V.tolist(), [], F.tolist())
     ob = bpy.data.objects.new(name, mesh)
     bpy.context.scene.collection.objects.link(ob)
     bpy.context.view_layer.objects.active = ob

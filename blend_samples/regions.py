@@ -1,4 +1,5 @@
-"""Sample-scene geometry without Blender: mesh reading, region selection, handle edits.
+"""Sample-scene geometry without Blender: meshes (read by edgedeform.mesh_io), region
+selection, handle edits.
 
 Shared by make_samples.py (inside Blender) and the demo (inside or outside Blender), so the
 scenes and the demo select exactly the same vertices. NumPy only; no per-vertex loops.
@@ -24,28 +25,6 @@ def load_scenes(path=SCENES_JSON):
 
 
 # ---------------------------------------------------------------- mesh input
-
-def read_off(path):
-    with open(path) as f:
-        tokens = [ln.split() for ln in f if ln.strip() and not ln.startswith("#")]
-    n, m = int(tokens[1][0]), int(tokens[1][1])
-    V = np.array([t[:3] for t in tokens[2:2 + n]], dtype=np.float64)
-    F = np.array([t[1:4] for t in tokens[2 + n:2 + n + m]], dtype=np.int64)
-    return V, F
-
-
-def read_obj(path):
-    verts, faces = [], []
-    with open(path) as f:
-        for ln in f:
-            if ln.startswith("v "):
-                verts.append(ln.split()[1:4])
-            elif ln.startswith("f "):
-                # "f a/b/c ..." keeps only the position index; fan-triangulate polygons.
-                idx = [int(t.split("/")[0]) - 1 for t in ln.split()[1:]]
-                faces.extend([idx[0], idx[k], idx[k + 1]] for k in range(1, len(idx) - 1))
-    return np.array(verts, dtype=np.float64), np.array(faces, dtype=np.int64)
-
 
 def make_bar(length=8.0, radius=0.5, rings=48, segments=16):
     """A closed, triangulated cylinder along X (caps as triangle fans around a centre vertex)."""
@@ -96,10 +75,9 @@ def scene_mesh(scene):
     src = scene["mesh"]
     if src == "procedural:bar":
         V, F = make_bar()
-    elif src.endswith(".off"):
-        V, F = read_off(os.path.join(HERE, "meshes", src))
-    else:
-        V, F = read_obj(os.path.join(HERE, "meshes", src))
+    else:  # the package's reader: OBJ/OFF/PLY, file vertex order kept
+        from edgedeform.mesh_io import read_mesh
+        V, F = read_mesh(os.path.join(HERE, "meshes", src))
     return normalise(V, scene.get("up", "z")), F
 
 

@@ -26,7 +26,10 @@ else   # a checkout without the add-on's CMake yet: the demo registers addon/ fr
 fi
 
 step "4/5 sample scenes (blend_samples/*.blend)"
-# Blender prints harmless EGL warnings without a display: keep the log readable.
+# Blender prints harmless EGL warnings without a display: keep the log readable. Old scenes
+# go first, so that the check below sees this run's files, not a previous run's.
+rm -f blend_samples/*.blend blend_samples/*.blend1
+PYTHONPATH="$build/python${PYTHONPATH:+:$PYTHONPATH}" \
 blender -b --factory-startup --python-exit-code 1 \
   --python blend_samples/make_samples.py -- --out blend_samples 2>&1 | grep -v '^EGL Error' \
   | grep -E 'make_samples|Error|Traceback' || true

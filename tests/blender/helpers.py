@@ -26,6 +26,7 @@ import numpy as np  # noqa: E402
 from mathutils import Matrix, Vector  # noqa: E402
 
 import edgedeform as ed  # noqa: E402
+import edgedeform.mesh_io  # noqa: E402,F401  (ed.mesh_io)
 import edge_deform  # noqa: E402
 from edge_deform import session  # noqa: E402
 
@@ -37,37 +38,9 @@ def register():
 
 # ------------------------------------------------------------------ meshes
 
-def read_off(path):
-    """OFF/COFF/NOFF: vertex lines may carry colours or normals after x y z."""
-    with open(path) as f:
-        lines = [ln.split("#")[0].split() for ln in f]
-    lines = [ln for ln in lines if ln]
-    assert lines[0][0].endswith("OFF"), path
-    head = lines[0][1:] or lines[1]
-    start = 1 if lines[0][1:] else 2
-    nv, nf = int(head[0]), int(head[1])
-    V = np.array([ln[:3] for ln in lines[start:start + nv]], float)
-    faces = [[int(x) for x in ln[1:1 + int(ln[0])]] for ln in lines[start + nv:start + nv + nf]]
-    return V, np.array(faces, np.int64)
-
-
-def read_obj(path):
-    V, F = [], []
-    with open(path) as f:
-        for line in f:
-            parts = line.split()
-            if not parts:
-                continue
-            if parts[0] == "v":
-                V.append([float(x) for x in parts[1:4]])
-            elif parts[0] == "f":
-                F.append([int(p.split("/")[0]) - 1 for p in parts[1:]])
-    return np.array(V, float), np.array(F, np.int64)
-
-
 def load(name):
-    path = os.path.join(DATA, name)
-    return read_off(path) if name.endswith(".off") else read_obj(path)
+    """(V, F) of a mesh in tests/data, read by the package (file vertex order)."""
+    return ed.mesh_io.read_mesh(os.path.join(DATA, name))
 
 
 def make_object(name, V, faces):
