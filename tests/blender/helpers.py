@@ -81,6 +81,21 @@ def add_handle(ob, group, controller_location=(0, 0, 0)):
     return empty
 
 
+def plane_with_end_groups():
+    """The test plane with group "H" (the +x tenth) and static group "S" (the -x tenth)
+    and a handle on H: (object, controller, handle indices, static indices)."""
+    V, F = load("cgal_plane.off")
+    ob = make_object("plane", V, F)
+    x = V[:, 0]
+    handle = np.flatnonzero(x > x.max() - 0.1 * np.ptp(x))
+    static = np.flatnonzero(x < x.min() + 0.1 * np.ptp(x))
+    add_group(ob, "H", handle)
+    add_group(ob, "S", static)
+    ob.edge_deform.static_group = "S"
+    ctrl = add_handle(ob, "H", V[handle].mean(axis=0))
+    return ob, ctrl, handle, static
+
+
 def positions(mesh):
     co = np.empty(len(mesh.vertices) * 3, np.float32)
     mesh.vertices.foreach_get("co", co)

@@ -5,22 +5,14 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from helpers import (add_group, add_handle, bpy, key_positions, load,  # noqa: E402
-                     make_object, np, positions, run, transform)
+from helpers import (bpy, key_positions, np, plane_with_end_groups,  # noqa: E402
+                     positions, run, transform)
 
 
 def setup():
-    V, F = load("cgal_plane.off")
-    ob = make_object("plane", V, F)
-    x = V[:, 0]
-    handle = np.flatnonzero(x > x.max() - 0.1 * np.ptp(x))
-    static = np.flatnonzero(x < x.min() + 0.1 * np.ptp(x))
-    add_group(ob, "H", handle)
-    add_group(ob, "S", static)
-    ob.edge_deform.static_group = "S"
+    ob, ctrl, handle, static = plane_with_end_groups()
     ob.edge_deform.iterations = 30
     ob.edge_deform.tolerance = 1e-7
-    ctrl = add_handle(ob, "H", V[handle].mean(axis=0))
     rest_matrix = ctrl.matrix_world.copy()
     # Animated controller: rest at frame 1, lifted and turned at frame 9.
     ctrl.keyframe_insert("location", frame=1)

@@ -19,8 +19,8 @@ import traceback
 from mathutils import Euler
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from helpers import (OUT, add_group, add_handle, bpy, key_positions, load,  # noqa: E402
-                     make_object, np, positions, register)
+from helpers import (OUT, bpy, key_positions, np, plane_with_end_groups,  # noqa: E402
+                     positions, register)
 
 STEP = 0.1  # seconds between steps: several 60 Hz ticks of the tools' timers
 
@@ -89,15 +89,7 @@ def setup():
     register()
     for ob in list(bpy.data.objects):
         bpy.data.objects.remove(ob)
-    V, F = load("cgal_plane.off")
-    ob = make_object("plane", V, F)
-    x = V[:, 0]
-    handle = np.flatnonzero(x > x.max() - 0.1 * np.ptp(x))
-    static = np.flatnonzero(x < x.min() + 0.1 * np.ptp(x))
-    add_group(ob, "H", handle)
-    add_group(ob, "S", static)
-    ob.edge_deform.static_group = "S"
-    add_handle(ob, "H", V[handle].mean(axis=0))
+    ob, _, handle, static = plane_with_end_groups()
     # A three-quarter view (the plane lies in XZ) with the add-on's sidebar tab open.
     win, area, region = view3d()
     space = area.spaces.active
