@@ -166,6 +166,7 @@ ConstrainedSystem build_constrained_system(const NodeGraph& g, const RowMatrixX3
   sys.stencil = build_stencil(g, g.node_positions(rest), sys.term_nodes, stencil_index);
   const NodeStencil& st = sys.stencil;
   const int T = st.n_terms, n_arcs = st.n_arcs();
+  sys.rest_scale = st.rest_norm.sum();
 
   std::vector<Eigen::Triplet<double>> j1, j2;
   j1.reserve(static_cast<size_t>(4 * n_arcs));

@@ -142,9 +142,9 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   const AssembledSystem& as = *assembled_;
 
   // Every vertex at its constraint: handles on their targets, the rest at rest.
-  RowMatrixX3d constrained = rest_;
+  RowMatrixX3d& constrained = result.positions;  // free rows are overwritten at the end
+  constrained = rest_;
   for (size_t h = 0; h < sys.handles.size(); ++h) constrained.row(sys.handles[h]) = targets.row(static_cast<Eigen::Index>(h));
-  result.positions = constrained;
   const int nf = sys.n_free(), nc = sys.n_fixed();
   if (nf == 0) {
     result.converged = true;
@@ -166,7 +166,7 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   }
 
   // Below this the energy is round-off of a shape that is already at rest (or rigidly moved).
-  const double energy_floor = 1e-14 * sys.stencil.rest_norm.sum();
+  const double energy_floor = 1e-14 * sys.rest_scale;
   Eigen::MatrixXd rhs, xf;
   for (int it = 0; it < options.max_iterations; ++it) {
     auto t0 = Clock::now();

@@ -35,6 +35,7 @@ struct ConstrainedSystem {
   std::vector<int> stencil_nodes;    // active nodes, then their other neighbours (global ids)
   RowMatrixX2i stencil_node_vertices;  // per stencil node: its (a,b) in local vertex ids
   NodeStencil stencil;               // indices into the stencil-node position array
+  double rest_scale = 0.0;           // sum of stencil.rest_norm: the energy's natural size
   SparseMatrix J1f, J1c;             // #arcs x nf, #arcs x nc
   SparseMatrix J2f, J2c;             // #terms x nf, #terms x nc
   std::vector<std::string> warnings;
