@@ -51,7 +51,7 @@ TEST(ClosestRotation, IdentityForASymmetricPositiveMatrix) {
   Eigen::Matrix3d S;
   S << 3, 1, 0, 1, 2, 0.5, 0, 0.5, 1;
   EXPECT_LT((closest_rotation(S) - Eigen::Matrix3d::Identity()).norm(), 1e-14);
-  EXPECT_LT((closest_rotation(Eigen::Matrix3d::Zero()) - Eigen::Matrix3d::Identity()).norm(), 0.0 + 1e-15);
+  EXPECT_LT((closest_rotation(Eigen::Matrix3d::Zero()) - Eigen::Matrix3d::Identity()).norm(), 1e-15);
 }
 
 TEST(ClosestRotation, ReflectionIsFixed) {
