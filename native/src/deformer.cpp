@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "edgedeform/errors.h"
 #include "edgedeform/mesh_checks.h"
 #include "edgedeform/stiffness.h"
 
@@ -25,11 +26,13 @@ void stencil_node_positions(const ConstrainedSystem& sys, const RowMatrixX3d& x_
     p.row(s) = 0.5 * (x_local.row(sys.stencil_node_vertices(s, 0)) + x_local.row(sys.stencil_node_vertices(s, 1)));
 }
 
-void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX3d& targets, const SolveOptions& o) {
+void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX3d& targets, const SolveOptions& o,
+                           const SafeRange& range) {
   if (targets.rows() != static_cast<Eigen::Index>(sys.handles.size()))
     throw std::invalid_argument("targets has " + std::to_string(targets.rows()) + " rows, expected one per handle (" +
                                 std::to_string(sys.handles.size()) + ")");
   check_finite(targets, "targets");
+  check_distance(targets, range.center, range.limit, "targets");
   if (o.max_iterations < 1)
     throw std::invalid_argument("max_iterations must be at least 1, got " + std::to_string(o.max_iterations));
   if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance))
@@ -39,17 +42,27 @@ void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX
       throw std::invalid_argument("initial has " + std::to_string(o.initial->rows()) + " rows, expected " +
                                   std::to_string(n) + " (one per vertex)");
     check_finite(*o.initial, "initial");
+    check_distance(*o.initial, range.center, range.limit, "initial");
   }
+}
+
+void stop_if_interrupted(const SolveOptions& o) {
+  if (o.interrupt_requested && o.interrupt_requested()) throw SolveInterrupted("solve interrupted");
 }
 
 }  // namespace
 
 Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, bool clamp_negative_weights) {
   check_mesh(V, F);
+  safe_range_.center = 0.5 * (V.colwise().minCoeff() + V.colwise().maxCoeff());
+  check_distance(V, safe_range_.center, largest_safe_distance(1.0), "V");  // before any products
+  check_geometry(V, F);
   rest_ = V;
   faces_ = F;
   topology_ = build_edge_topology(F, static_cast<int>(V.rows()));
   graph_ = build_node_graph(V, F, topology_, domain, clamp_negative_weights);
+  safe_range_.limit = largest_safe_distance(graph_.arc_weights.cwiseAbs().sum());
+  check_distance(V, safe_range_.center, safe_range_.limit, "V");
   referenced_ = referenced_vertices(F, static_cast<int>(V.rows()));
   vertex_lambda_ = Eigen::VectorXd::Constant(V.rows(), 0.5);
   node_lambda_ = node_stiffness(graph_, vertex_lambda_);
@@ -132,7 +145,7 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   std::lock_guard<std::mutex> lock(mutex_);
   if (!system_) throw std::invalid_argument("set_constraints(handles=...) must be called before solve");
   const ConstrainedSystem& sys = *system_;
-  check_solve_arguments(sys, n_vertices(), targets, options);
+  check_solve_arguments(sys, n_vertices(), targets, options, safe_range_);
 
   SolveResult result;
   result.warnings = sys.warnings;
@@ -169,6 +182,7 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   const double energy_floor = 1e-14 * sys.rest_scale;
   Eigen::MatrixXd rhs, xf;
   for (int it = 0; it < options.max_iterations; ++it) {
+    stop_if_interrupted(options);
     auto t0 = Clock::now();
     as.H.apply(fit.rotation, fit.scale, c, rhs);
     result.rhs_ms += ms_since(t0);

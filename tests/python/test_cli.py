@@ -168,19 +168,52 @@ def test_bad_stiffness_file(tmp_path, spot_job):
     assert not (tmp_path / "o.obj").exists()
 
 
-def test_non_manifold_mesh_reports_core_error(tmp_path):
-    """An error found by the core (not the CLI's own checks) is reported the same way."""
+def test_non_manifold_mesh_deforms(tmp_path):
+    """A third triangle on an interior edge of the plane (a fin): deformed, not refused."""
     V, F = load(PLANE)
     a, b = F[0, 0], F[0, 1]
     V2 = np.vstack([V, V[[a, b]].mean(axis=0) + [0.0, 0.3, 0.0]])
     F2 = np.vstack([F, [[a, b, len(V)]]])
     mesh = tmp_path / "nm.obj"
-    mesh.write_text("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in V2) +
-                    "".join(f"f {i + 1} {j + 1} {k + 1}\n" for i, j, k in F2))
+    mesh.write_text(_obj_text(V2, F2))
+    target = V2[0] + [0.0, 0.1, 0.0]
+    c = write_constraints(tmp_path / "c.json", [0], [5], [target])
+    p = run("deform", mesh, "--constraints", c, "--out", tmp_path / "o.obj")
+    assert p.returncode == 0, p.stderr
+    X, _ = read_mesh(tmp_path / "o.obj")
+    assert np.allclose(X[0], target) and np.allclose(X[5], V2[5])
+    assert np.abs(X[-1] - V2[-1]).max() > 0.0  # the fin's tip moved with its edge
+
+
+def _obj_text(V, F):
+    return ("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in V) +
+            "".join(f"f {i + 1} {j + 1} {k + 1}\n" for i, j, k in F))
+
+
+def test_degenerate_mesh_reports_core_error(tmp_path):
+    """An error found by the core (not the CLI's own checks) is reported the same way, and
+    names what is wrong with the mesh (not a CHOLMOD status)."""
+    V, F = load(PLANE)
+    mesh = tmp_path / "point.obj"
+    mesh.write_text(_obj_text(np.zeros_like(V), F))
     c = write_constraints(tmp_path / "c.json", [0], [5], [[0.0, 0.1, 0.0]])
     p = run("deform", mesh, "--constraints", c, "--out", tmp_path / "o.obj")
-    assert p.returncode != 0 and "manifold" in p.stderr.lower(), p.stderr
-    assert "Traceback" not in p.stderr and not (tmp_path / "o.obj").exists()
+    assert p.returncode == 1, p.stderr
+    assert f"all its {len(V)} vertices are at one point" in p.stderr, p.stderr
+    assert "CHOLMOD" not in p.stderr and "Traceback" not in p.stderr
+    assert not (tmp_path / "o.obj").exists()
+
+
+@pytest.mark.parametrize("value", [1e308, -1e200])
+def test_overflowing_target_rejected_nothing_written(tmp_path, spot_job, value):
+    V, F, handles, static, targets, _ = spot_job
+    targets = targets.copy()
+    targets[1, 2] = value
+    c = write_constraints(tmp_path / "c.json", handles, static, targets)
+    p = run("deform", DATA / SPOT, "--constraints", c, "--out", tmp_path / "o.obj")
+    assert p.returncode == 1, p.stderr
+    assert "targets[1]" in p.stderr and "overflow" in p.stderr, p.stderr
+    assert not (tmp_path / "o.obj").exists()
 
 
 def test_help_and_usage():

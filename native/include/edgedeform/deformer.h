@@ -3,6 +3,7 @@
 // leaves the Deformer as it was.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -21,6 +22,10 @@ struct SolveOptions {
   double tolerance = 1e-4;
   bool warm_start = true;
   std::optional<RowMatrixX3d> initial;  // start with a local step on these positions
+  // Asked once per iteration (called from the solving thread); returning true stops the
+  // solve with SolveInterrupted. The Python bindings check for Ctrl-C here, so the core
+  // needs no Python.
+  std::function<bool()> interrupt_requested;
 };
 
 struct SolveResult {
@@ -34,6 +39,12 @@ struct SolveResult {
   double local_ms = 0.0, rhs_ms = 0.0, solve_ms = 0.0;  // totals over the iterations
   int free_vertices = 0;
   int active_nodes = 0;
+};
+
+// Positions farther than `limit` (per coordinate) from `center` would overflow the energies.
+struct SafeRange {
+  Eigen::RowVector3d center = Eigen::RowVector3d::Zero();
+  double limit = 0.0;
 };
 
 class Deformer {
@@ -73,6 +84,7 @@ class Deformer {
   EdgeTopology topology_;
   NodeGraph graph_;
   std::vector<bool> referenced_;
+  SafeRange safe_range_;  // targets and initial positions are checked against it
   Eigen::VectorXd vertex_lambda_;
   Eigen::VectorXd node_lambda_;
   std::unique_ptr<ConstrainedSystem> system_;

@@ -11,4 +11,10 @@ struct FactorizationError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// SolveOptions::interrupt_requested returned true: the solve stopped between iterations.
+// The Deformer stays usable (the next solve starts as after a change of constraints).
+struct SolveInterrupted : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace edgedeform
