@@ -207,7 +207,7 @@ def main(argv=None):
     if args.threads:
         os.environ["OMP_NUM_THREADS"] = str(args.threads)
     import edgedeform as ed
-    from edgedeform.mesh_io import read_mesh
+    from edgedeform.mesh_files import read_mesh
     threads = int(ed.build_info().get("threads", 0)) if args.threads is None else args.threads
 
     sizes = [s for s in args.sizes.split(",") if s]

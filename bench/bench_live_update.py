@@ -35,7 +35,7 @@ import numpy as np  # noqa: E402
 
 import edge_deform  # noqa: E402
 import edgedeform as ed  # noqa: E402
-from edgedeform.mesh_io import read_mesh  # noqa: E402
+from edgedeform.mesh_files import read_mesh  # noqa: E402
 from edge_deform import engine  # noqa: E402
 from machine import machine_info  # noqa: E402
 from md_section import replace_section  # noqa: E402

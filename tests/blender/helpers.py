@@ -26,7 +26,7 @@ import numpy as np  # noqa: E402
 from mathutils import Matrix, Vector  # noqa: E402
 
 import edgedeform as ed  # noqa: E402
-import edgedeform.mesh_io  # noqa: E402,F401  (ed.mesh_io)
+import edgedeform.mesh_files  # noqa: E402,F401  (ed.mesh_files)
 import edge_deform  # noqa: E402
 from edge_deform import session  # noqa: E402
 
@@ -40,7 +40,7 @@ def register():
 
 def load(name):
     """(V, F) of a mesh in tests/data, read by the package (file vertex order)."""
-    return ed.mesh_io.read_mesh(os.path.join(DATA, name))
+    return ed.mesh_files.read_mesh(os.path.join(DATA, name))
 
 
 def make_object(name, V, faces):

@@ -7,7 +7,10 @@
 C.json: {"handles": [...], "static": [...], "roi": null or [...],
          "handle_targets": [[x, y, z], ...]}   (targets in the order of handles)
 
-On success: writes OUT (same vertex order as MESH) and prints one line of JSON.
+On success: writes OUT and prints one line of JSON. Only the positions change: OUT keeps
+MESH's vertex order, faces (quads, n-gons), texture coordinates, colours, groups and
+materials; normals are recomputed. The report's "notes" say what was recomputed, or what
+OUT's format cannot carry when it differs from MESH's.
 On bad input: one message on stderr, exit status 1, no output file, no traceback.
 """
 
@@ -19,7 +22,7 @@ import time
 
 import numpy as np
 
-from . import mesh_io
+from . import mesh_files
 
 EXIT_BAD_INPUT = 1
 
@@ -134,8 +137,9 @@ def deform(args):
         raise InputError("--iterations must be at least 1")
     if not math.isfinite(args.tolerance) or args.tolerance < 0:
         raise InputError("--tolerance must be a finite number >= 0")
-    mesh_io._ext(args.out)  # fail before any work if OUT has an unknown extension
-    V, F = mesh_io.read_mesh(args.mesh)
+    mesh_files.check_extension(args.out)  # fail before any work if OUT has an unknown extension
+    mesh = mesh_files.read_mesh_file(args.mesh)
+    V, F = mesh.vertices, mesh.triangles
     handles, static, roi, targets = load_constraints(args.constraints, len(V))
     lam = load_stiffness(args, len(V))
 
@@ -148,7 +152,7 @@ def deform(args):
     X = np.asarray(r.positions)
     if not np.all(np.isfinite(X)):
         raise InputError("the solve produced non-finite positions; nothing written")
-    mesh_io.write_mesh(args.out, X, F)
+    notes = mesh.write(args.out, X)
 
     its = int(r.iterations)
     loop_ms = float(r.local_ms + r.rhs_ms + r.solve_ms)
@@ -164,6 +168,7 @@ def deform(args):
         "free_vertices": int(r.free_vertices),
         "wall_ms": round(wall_ms, 3),
         "warnings": list(r.warnings),
+        "notes": notes,
     }
     return report
 
