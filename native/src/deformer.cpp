@@ -64,6 +64,8 @@ Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, 
   safe_range_.limit = largest_safe_distance(graph_.arc_weights.cwiseAbs().sum());
   check_distance(V, safe_range_.center, safe_range_.limit, "V");
   referenced_ = referenced_vertices(F, static_cast<int>(V.rows()));
+  seams_ = find_seam_copies(V, F);
+  seam_tolerance_ = 1e-6 * (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
   vertex_lambda_ = Eigen::VectorXd::Constant(V.rows(), 0.5);
   node_lambda_ = node_stiffness(graph_, vertex_lambda_);
   node_rotation_.assign(static_cast<size_t>(graph_.n_nodes), Eigen::Matrix3d::Identity());
@@ -208,6 +210,7 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   }
 
   for (int k = 0; k < nf; ++k) result.positions.row(sys.free_vertices[static_cast<size_t>(k)]) = x_local.row(k);
+  if (auto torn = seam_warning(seams_, result.positions, seam_tolerance_)) result.warnings.push_back(*torn);
   last_fit_ = std::move(fit);  // the next warm start begins here
   last_fit_valid_ = true;
   return result;

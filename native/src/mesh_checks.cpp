@@ -41,15 +41,6 @@ void check_mesh(const RowMatrixX3d& V, const RowMatrixX3i& F) {
 
 namespace {
 
-// Union-find root with path halving.
-int root(std::vector<int>& parent, int v) {
-  while (parent[static_cast<size_t>(v)] != v) {
-    parent[static_cast<size_t>(v)] = parent[static_cast<size_t>(parent[static_cast<size_t>(v)])];
-    v = parent[static_cast<size_t>(v)];
-  }
-  return v;
-}
-
 // A face the solver cannot use: every angle's sine is below the cotangent floor (zero area,
 // a needle, or corners at one point).
 bool is_degenerate_face(const RowMatrixX3d& V, const RowMatrixX3i& F, Eigen::Index f) {
@@ -69,17 +60,30 @@ std::string point_text(const RowMatrixX3d& V, int v) {
 
 }  // namespace
 
-void check_geometry(const RowMatrixX3d& V, const RowMatrixX3i& F) {
-  const int n = static_cast<int>(V.rows());
-  // Faces joined through shared vertices form the mesh's connected pieces.
+std::vector<int> connected_pieces(const RowMatrixX3i& F, int n) {
+  // Union-find with path halving; faces join their three vertices.
   std::vector<int> parent(static_cast<size_t>(n));
   std::iota(parent.begin(), parent.end(), 0);
+  auto root = [&parent](int v) {
+    while (parent[static_cast<size_t>(v)] != v) {
+      parent[static_cast<size_t>(v)] = parent[static_cast<size_t>(parent[static_cast<size_t>(v)])];
+      v = parent[static_cast<size_t>(v)];
+    }
+    return v;
+  };
   for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int k = 1; k < 3; ++k) parent[static_cast<size_t>(root(parent, F(f, k)))] = root(parent, F(f, 0));
+    for (int k = 1; k < 3; ++k) parent[static_cast<size_t>(root(F(f, k)))] = root(F(f, 0));
+  for (int v = 0; v < n; ++v) parent[static_cast<size_t>(v)] = root(v);
+  return parent;
+}
+
+void check_geometry(const RowMatrixX3d& V, const RowMatrixX3i& F) {
+  const int n = static_cast<int>(V.rows());
+  const std::vector<int> piece = connected_pieces(F, n);
   // Per piece: its faces, and how many of them the solver can use.
   std::vector<int> faces(static_cast<size_t>(n), 0), usable(static_cast<size_t>(n), 0), first(static_cast<size_t>(n), -1);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const auto r = static_cast<size_t>(root(parent, F(f, 0)));
+    const auto r = static_cast<size_t>(piece[static_cast<size_t>(F(f, 0))]);
     if (first[r] < 0) first[r] = static_cast<int>(f);
     ++faces[r];
     usable[r] += !is_degenerate_face(V, F, f);
@@ -97,7 +101,7 @@ void check_geometry(const RowMatrixX3d& V, const RowMatrixX3i& F) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   int in_worst = 0;
   for (int v = 0; v < n; ++v)
-    if (used[static_cast<size_t>(v)] && static_cast<size_t>(root(parent, v)) == worst) {
+    if (used[static_cast<size_t>(v)] && static_cast<size_t>(piece[static_cast<size_t>(v)]) == worst) {
       lo = lo.cwiseMin(V.row(v).transpose());
       hi = hi.cwiseMax(V.row(v).transpose());
       ++in_worst;

@@ -13,6 +13,7 @@
 #include "edgedeform/constrained_system.h"
 #include "edgedeform/edge_topology.h"
 #include "edgedeform/node_graph.h"
+#include "edgedeform/seams.h"
 #include "edgedeform/sparse_cholesky.h"
 
 namespace edgedeform {
@@ -85,6 +86,8 @@ class Deformer {
   NodeGraph graph_;
   std::vector<bool> referenced_;
   SafeRange safe_range_;  // targets and initial positions are checked against it
+  SeamCopies seams_;      // coincident vertices: a solve that tears them apart warns
+  double seam_tolerance_ = 0.0;  // 1e-6 of the bounding-box diagonal: a visible gap
   Eigen::VectorXd vertex_lambda_;
   Eigen::VectorXd node_lambda_;
   std::unique_ptr<ConstrainedSystem> system_;

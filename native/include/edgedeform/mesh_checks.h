@@ -32,6 +32,10 @@ void check_index_set(const std::vector<int>& indices, int n, const char* what);
 // Throws std::invalid_argument if `X` (named `what`) has a non-finite entry.
 void check_finite(const RowMatrixX3d& X, const char* what);
 
+// Per vertex, a label of its connected piece (vertices joined through faces share one; the
+// label is the piece's root vertex). Unreferenced vertices are pieces of their own.
+std::vector<int> connected_pieces(const RowMatrixX3i& F, int n);
+
 // True for each vertex used by at least one face.
 std::vector<bool> referenced_vertices(const RowMatrixX3i& F, int n);
 

@@ -2,7 +2,7 @@
 
     python3 -m edgedeform deform MESH --constraints C.json --out OUT.obj
         [--domain edge|primal] [--stiffness 0.5 | --stiffness-file lam.txt]
-        [--iterations N] [--tolerance T]
+        [--iterations N] [--tolerance T] [--weld]
 
 C.json: {"handles": [...], "static": [...], "roi": null or [...],
          "handle_targets": [[x, y, z], ...]}   (targets in the order of handles)
@@ -50,6 +50,9 @@ def _parser():
                      help="one stiffness value per vertex, whitespace separated")
     d.add_argument("--iterations", type=int, default=10, metavar="N",
                    help="maximum local/global iterations (default 10)")
+    d.add_argument("--weld", action="store_true",
+                   help="solve with vertices that share a position welded (unwelded seams); "
+                        "every copy gets the welded position")
     d.add_argument("--tolerance", type=float, default=1e-4, metavar="T",
                    help="relative energy change to stop at (default 1e-4)")
     return p
@@ -143,7 +146,7 @@ def deform(args):
     handles, static, roi, targets = load_constraints(args.constraints, len(V))
     lam = load_stiffness(args, len(V))
 
-    d = ed.Deformer(V, F, domain=args.domain)
+    d = ed.Deformer(V, F, domain=args.domain, weld=args.weld)
     d.set_constraints(handles=handles, static=static, roi=roi)
     d.set_stiffness(lam)
     t0 = time.perf_counter()
@@ -169,6 +172,7 @@ def deform(args):
         "wall_ms": round(wall_ms, 3),
         "warnings": list(r.warnings),
         "notes": notes,
+        "welded_copies": int(d.welded_copies),
     }
     return report
 
