@@ -1,6 +1,14 @@
 #include "edgedeform/rotation_operator.h"
 
+#include "edgedeform/parallel.h"
+
 namespace edgedeform {
+
+namespace {
+// Threads only for at least this many rows. KROWS_TBD
+constexpr int kMinParallelRows = 4096;
+constexpr int kRowsPerChunk = 512;
+}  // namespace
 
 RotationOperator::RotationOperator(const SparseMatrixRowMajor& H) {
   offsets_.assign(1, 0);
@@ -26,17 +34,18 @@ void RotationOperator::apply(const std::vector<Eigen::Matrix3d>& rotation, const
                              const Eigen::MatrixXd& c, Eigen::MatrixXd& y) const {
   const int n = rows();
   y.resize(n, 3);
-#pragma omp parallel for schedule(dynamic, 1024) if (n > 4096)
-  for (int r = 0; r < n; ++r) {
-    Eigen::Vector3d sum = c.row(r).transpose();
-    for (int b = offsets_[static_cast<size_t>(r)]; b < offsets_[static_cast<size_t>(r) + 1]; ++b) {
-      const int t = term_[static_cast<size_t>(b)];
-      const double* h = &coef_[6 * static_cast<size_t>(b)];
-      const Eigen::Vector3d g(h[0] + scale(t) * h[3], h[1] + scale(t) * h[4], h[2] + scale(t) * h[5]);
-      sum.noalias() += rotation[static_cast<size_t>(t)] * g;
+  parallel_for(n, kRowsPerChunk, kMinParallelRows, [&](int begin, int end) {
+    for (int r = begin; r < end; ++r) {
+      Eigen::Vector3d sum = c.row(r).transpose();
+      for (int b = offsets_[static_cast<size_t>(r)]; b < offsets_[static_cast<size_t>(r) + 1]; ++b) {
+        const int t = term_[static_cast<size_t>(b)];
+        const double* h = &coef_[6 * static_cast<size_t>(b)];
+        const Eigen::Vector3d g(h[0] + scale(t) * h[3], h[1] + scale(t) * h[4], h[2] + scale(t) * h[5]);
+        sum.noalias() += rotation[static_cast<size_t>(t)] * g;
+      }
+      y.row(r) = sum.transpose();
     }
-    y.row(r) = sum.transpose();
-  }
+  });
 }
 
 }  // namespace edgedeform
