@@ -116,15 +116,21 @@ void Deformer::set_stiffness(const Eigen::VectorXd& vertex_lambda) {
   vertex_lambda_ = vertex_lambda;
   if (node == node_lambda_) return;  // the same system: keep the factorization
   node_lambda_ = std::move(node);
-  assembled_.reset();
+  stiffness_changed_ = true;
 }
 
 void Deformer::ensure_factored(SolveResult& result) {
-  if (assembled_) return;
+  if (assembled_ && !stiffness_changed_) return;
   const auto start = Clock::now();
-  auto assembled = std::make_unique<AssembledSystem>(assemble_system(*system_, node_lambda_));
+  // Kept only once factored: after a failure the next call assembles anew.
+  std::unique_ptr<AssembledSystem> assembled = std::move(assembled_);
+  if (assembled)  // only lambda changed: new values in the same operators and pattern
+    update_stiffness(*assembled, *system_, node_lambda_);
+  else
+    assembled = std::make_unique<AssembledSystem>(assemble_system(*system_, node_lambda_));
   if (system_->n_free() > 0) cholesky_.factorize(assembled->A);  // throws FactorizationError
   assembled_ = std::move(assembled);
+  stiffness_changed_ = false;
   result.factor_ms = ms_since(start);
 }
 

@@ -1,5 +1,8 @@
 #include "edgedeform/rotation_operator.h"
 
+#include <stdexcept>
+#include <string>
+
 #include "edgedeform/parallel.h"
 
 namespace edgedeform {
@@ -11,6 +14,7 @@ constexpr int kRowsPerChunk = 512;
 }  // namespace
 
 RotationOperator::RotationOperator(const SparseMatrixRowMajor& H) {
+  lambda_.assign(static_cast<size_t>(H.cols() / 6), 1.0);
   offsets_.assign(1, 0);
   offsets_.reserve(static_cast<size_t>(H.rows()) + 1);
   term_.reserve(static_cast<size_t>(H.nonZeros() / 3));
@@ -30,6 +34,13 @@ RotationOperator::RotationOperator(const SparseMatrixRowMajor& H) {
   }
 }
 
+void RotationOperator::set_term_lambda(const Eigen::VectorXd& term_lambda) {
+  if (term_lambda.size() != static_cast<Eigen::Index>(lambda_.size()))
+    throw std::invalid_argument("term_lambda has " + std::to_string(term_lambda.size()) + " entries, expected " +
+                                std::to_string(lambda_.size()) + " (one per term)");
+  lambda_.assign(term_lambda.data(), term_lambda.data() + term_lambda.size());
+}
+
 void RotationOperator::apply(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
                              const Eigen::MatrixXd& c, Eigen::MatrixXd& y) const {
   const int n = rows();
@@ -40,7 +51,8 @@ void RotationOperator::apply(const std::vector<Eigen::Matrix3d>& rotation, const
       for (int b = offsets_[static_cast<size_t>(r)]; b < offsets_[static_cast<size_t>(r) + 1]; ++b) {
         const int t = term_[static_cast<size_t>(b)];
         const double* h = &coef_[6 * static_cast<size_t>(b)];
-        const Eigen::Vector3d g(h[0] + scale(t) * h[3], h[1] + scale(t) * h[4], h[2] + scale(t) * h[5]);
+        const double rigid = lambda_[static_cast<size_t>(t)], smooth = (1.0 - rigid) * scale(t);
+        const Eigen::Vector3d g(rigid * h[0] + smooth * h[3], rigid * h[1] + smooth * h[4], rigid * h[2] + smooth * h[5]);
         sum.noalias() += rotation[static_cast<size_t>(t)] * g;
       }
       y.row(r) = sum.transpose();

@@ -76,7 +76,8 @@ class Deformer {
   Eigen::VectorXd vertex_lambda_;
   Eigen::VectorXd node_lambda_;
   std::unique_ptr<ConstrainedSystem> system_;
-  std::unique_ptr<AssembledSystem> assembled_;  // null when stiffness or constraints changed
+  std::unique_ptr<AssembledSystem> assembled_;  // null when the constraints changed
+  bool stiffness_changed_ = false;              // assembled_ holds another lambda
   SparseCholesky cholesky_;
   // Warm start. The fit of the last result, per term of the current system (live editing
   // reuses it as it is), and per global node once the constraints change.
