@@ -196,6 +196,18 @@ ConstrainedSystem build_constrained_system(const NodeGraph& g, const RowMatrixX3
   return sys;
 }
 
+std::vector<int> free_vertex_order(const ConstrainedSystem& sys, const std::vector<int>& rank) {
+  for (int v : sys.free_vertices)
+    if (static_cast<size_t>(v) >= rank.size() || rank[static_cast<size_t>(v)] < 0) return {};
+  std::vector<int> order(static_cast<size_t>(sys.n_free()));
+  for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return rank[static_cast<size_t>(sys.free_vertices[static_cast<size_t>(a)])] <
+           rank[static_cast<size_t>(sys.free_vertices[static_cast<size_t>(b)])];
+  });
+  return order;
+}
+
 AssembledSystem assemble_system(const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
   AssembledSystem out;
   const NodeStencil& st = sys.stencil;

@@ -128,10 +128,21 @@ void Deformer::ensure_factored(SolveResult& result) {
     update_stiffness(*assembled, *system_, node_lambda_);
   else
     assembled = std::make_unique<AssembledSystem>(assemble_system(*system_, node_lambda_));
-  if (system_->n_free() > 0) cholesky_.factorize(assembled->A);  // throws FactorizationError
+  if (system_->n_free() > 0) {
+    const std::vector<int> order = free_vertex_order(*system_, vertex_rank_);
+    cholesky_.factorize(assembled->A, order);  // throws FactorizationError
+    if (order.empty()) remember_order();
+  }
   assembled_ = std::move(assembled);
   stiffness_changed_ = false;
   result.factor_ms = ms_since(start);
+}
+
+void Deformer::remember_order() {
+  const std::vector<int> order = cholesky_.order();
+  vertex_rank_.assign(static_cast<size_t>(n_vertices()), -1);
+  for (size_t k = 0; k < order.size(); ++k)
+    vertex_rank_[static_cast<size_t>(system_->free_vertices[static_cast<size_t>(order[k])])] = static_cast<int>(k);
 }
 
 SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& options) {

@@ -51,6 +51,13 @@ ConstrainedSystem build_constrained_system(const NodeGraph& graph, const RowMatr
                                            const std::vector<bool>& referenced,
                                            const ConstraintSets& sets);
 
+// Elimination order of the free vertices (their local ids, 0 .. nf-1) by `rank` (#V, one
+// rank per global vertex, -1 for none); empty when some free vertex has no rank. A subset
+// of a fill-reducing order eliminated in the same order never fills more than the whole
+// did, so a constraint set that frees only vertices an earlier set freed (a handle group
+// added, then removed again) is factored without computing a new ordering.
+std::vector<int> free_vertex_order(const ConstrainedSystem& system, const std::vector<int>& rank);
+
 // The lambda-dependent operators.
 struct AssembledSystem {
   SparseMatrix A;                 // nf x nf, symmetric
