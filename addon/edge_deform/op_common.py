@@ -38,11 +38,22 @@ def error_text(exc):
         type(exc).__name__, exc)
 
 
+# Callables (level, text) told of every message the add-on gives (the tests listen here).
+listeners = []
+
+
+def tell(op, level, text):
+    """Every message to the user goes through here: the status bar via op.report."""
+    for listen in listeners:
+        listen(level, text)
+    op.report({level}, text)
+
+
 def _reported(op, call):
     try:
         return call()
     except Exception as exc:  # noqa: BLE001 - reported, never re-raised
-        op.report({'ERROR'}, error_text(exc))
+        tell(op, 'ERROR', error_text(exc))
         return {'CANCELLED'}
 
 
@@ -64,7 +75,7 @@ def guarded(method):
 
 def report_lines(op, lines):
     for level, text in lines:
-        op.report({level}, text)
+        tell(op, level, text)
 
 
 @contextlib.contextmanager

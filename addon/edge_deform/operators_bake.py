@@ -7,7 +7,7 @@ from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, IntProperty
 
 from . import engine, lifecycle
-from .op_common import error_text, guarded, poll_mesh
+from .op_common import error_text, guarded, poll_mesh, tell
 
 _state = {"baking": False, "errors": {}}
 
@@ -86,7 +86,7 @@ class EDGE_DEFORM_OT_bake(bpy.types.Operator):
         made = lifecycle.write_baked(ob, frames, results, self.frame_step)
         s.animate = False
         scene.frame_set(frame0)
-        self.report({'INFO'}, "Baked %d frames (%d-%d) into shape keys '%s.####'"
+        tell(self, 'INFO', "Baked %d frames (%d-%d) into shape keys '%s.####'"
                     % (len(made), frames[0], frames[-1], s.shape_key_name))
         return {'FINISHED'}
 

@@ -7,7 +7,7 @@ import bpy
 from bpy.props import BoolProperty
 
 from . import engine, lifecycle
-from .op_common import guarded, poll_mesh, report_lines
+from .op_common import guarded, poll_mesh, report_lines, tell
 
 
 class EDGE_DEFORM_OT_bind(bpy.types.Operator):
@@ -25,7 +25,7 @@ class EDGE_DEFORM_OT_bind(bpy.types.Operator):
     def execute(self, context):
         binding = lifecycle.bind(context.active_object)
         d = binding.deformer
-        self.report({'INFO'}, "Bound %d vertices, %d nodes (%s), %.1f ms"
+        tell(self, 'INFO', "Bound %d vertices, %d nodes (%s), %.1f ms"
                     % (d.n_vertices, d.n_nodes, binding.domain.lower(), binding.bind_ms))
         return {'FINISHED'}
 
@@ -51,7 +51,7 @@ class EDGE_DEFORM_OT_solve(bpy.types.Operator):
         bound, r = lifecycle.deform(context.active_object, warm=self.warm_start)
         lines, text, _ = engine.status(r, (time.perf_counter() - t0) * 1e3)
         report_lines(self, [('WARNING', w) for w in bound.warnings()] + lines)
-        self.report({'INFO'}, "Solved: " + text)
+        tell(self, 'INFO', "Solved: " + text)
         return {'FINISHED'}
 
 
@@ -69,7 +69,7 @@ class EDGE_DEFORM_OT_apply(bpy.types.Operator):
     @guarded
     def execute(self, context):
         lifecycle.apply(context.active_object)
-        self.report({'INFO'}, "Applied to the base mesh; it is the new rest shape")
+        tell(self, 'INFO', "Applied to the base mesh; it is the new rest shape")
         return {'FINISHED'}
 
 
@@ -87,7 +87,7 @@ class EDGE_DEFORM_OT_unbind(bpy.types.Operator):
     @guarded
     def execute(self, context):
         was = lifecycle.unbind(context.active_object)
-        self.report({'INFO'}, "Unbound" if was else "Was not bound")
+        tell(self, 'INFO', "Unbound" if was else "Was not bound")
         return {'FINISHED'}
 
 

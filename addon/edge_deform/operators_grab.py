@@ -15,7 +15,7 @@ from bpy_extras.view3d_utils import region_2d_to_location_3d
 from mathutils import Vector
 
 from . import engine, lifecycle, mesh_arrays
-from .op_common import ModalTool, error_text, guarded, poll_mesh
+from .op_common import ModalTool, error_text, guarded, poll_mesh, tell
 
 AXES = {'X': 0, 'Y': 1, 'Z': 2}
 NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'TRACKPADPAN',
@@ -99,7 +99,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             self.budget.record(r, (time.perf_counter() - t0) * 1e3)
             self.bound.write(r.positions)
         except Exception as exc:  # noqa: BLE001 - shown; the next move retries
-            self.report({'ERROR'}, error_text(exc))
+            tell(self, 'ERROR', error_text(exc))
             self.dirty, self.converged = False, True
             return
         self.first = False
@@ -118,11 +118,11 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             if why is not None:
                 self.end_modal(context)
                 self.snapshot.discard()
-                self.report({'WARNING'}, "Grab Deform ended: " + why)
+                tell(self, 'WARNING', "Grab Deform ended: " + why)
                 return {'CANCELLED'}
             return self.handle(context, event)
         except Exception as exc:  # noqa: BLE001 - never leave a broken modal behind
-            self.report({'ERROR'}, error_text(exc))
+            tell(self, 'ERROR', error_text(exc))
             return self.end(context, {'CANCELLED'}, restore=True)
 
     def handle(self, context, event):

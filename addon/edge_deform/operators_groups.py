@@ -10,7 +10,7 @@ from bpy.props import EnumProperty, FloatProperty, StringProperty
 from mathutils import Matrix, Vector
 
 from . import engine, mesh_arrays
-from .op_common import object_mode, poll_mesh
+from .op_common import object_mode, poll_mesh, tell
 
 PRESETS = {'SOFT': 0.0, 'MEDIUM': 0.5, 'RIGID': 1.0}
 STATIC_DEFAULT = "EdgeDeform_Static"
@@ -64,7 +64,7 @@ class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
             item.controller = empty
             item.rest_matrix = engine.controller_rest(ob, empty)
             s.active_handle = len(s.handles) - 1
-        self.report({'INFO'}, "Handle '%s': %d vertices, controller '%s'"
+        tell(self, 'INFO', "Handle '%s': %d vertices, controller '%s'"
                     % (vg.name, idx.size, empty.name))
         return {'FINISHED'}
 
@@ -104,7 +104,7 @@ class _SetGroup:
         with object_mode(ob):
             vg = mesh_arrays.assign_group(ob, name, idx, 1.0, replace_all=True)
         setattr(ob.edge_deform, self.field, vg.name)
-        self.report({'INFO'}, "%s group '%s': %d vertices" % (self.bl_label.split()[-1],
+        tell(self, 'INFO', "%s group '%s': %d vertices" % (self.bl_label.split()[-1],
                                                                  vg.name, idx.size))
         return {'FINISHED'}
 
@@ -163,7 +163,7 @@ class EDGE_DEFORM_OT_assign_stiffness(bpy.types.Operator):
         vg = ensure_stiffness_group(ob)
         with object_mode(ob):
             mesh_arrays.assign_group(ob, vg.name, idx, lam)
-        self.report({'INFO'}, "λ = %.2f on %d vertices (group '%s')" % (lam, idx.size, vg.name))
+        tell(self, 'INFO', "λ = %.2f on %d vertices (group '%s')" % (lam, idx.size, vg.name))
         return {'FINISHED'}
 
 

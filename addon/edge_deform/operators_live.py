@@ -16,7 +16,7 @@ import time
 import bpy
 
 from . import engine, lifecycle
-from .op_common import ModalTool, error_text, guarded, poll_mesh
+from .op_common import ModalTool, error_text, guarded, poll_mesh, tell
 
 LAMBDA_STEP = 0.05
 KEYS_UP = {'WHEELUPMOUSE', 'NUMPAD_PLUS', 'PLUS', 'EQUAL'}
@@ -64,7 +64,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.budget = engine.IterationBudget()
         self.start_modal(context, ob)
         for w in self.bound.warnings():
-            self.report({'WARNING'}, w)
+            tell(self, 'WARNING', w)
         self.update(context)
         return {'RUNNING_MODAL'}
 
@@ -100,7 +100,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         except Exception as exc:  # noqa: BLE001 - shown, and retried on the next move
             message = error_text(exc)
             if message != self.problem:
-                self.report({'ERROR'}, message)
+                tell(self, 'ERROR', message)
             self.problem = message
             self.converged = True
             self.show(message)
@@ -119,7 +119,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.controllers_state = None
         self.converged = False
         for w in self.bound.warnings():
-            self.report({'WARNING'}, w)
+            tell(self, 'WARNING', w)
 
     def show(self, stats):
         s = self.ob.edge_deform
@@ -137,7 +137,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                 return self.abandon(context, why)
             return self.handle(context, event)
         except Exception as exc:  # noqa: BLE001 - never leave a broken modal behind
-            self.report({'ERROR'}, error_text(exc))
+            tell(self, 'ERROR', error_text(exc))
             self.end_modal(context)
             return {'CANCELLED'}
 
@@ -159,7 +159,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             if event.type in {'RET', 'NUMPAD_ENTER'}:
                 return self.finish(context)
             if event.type == 'Z' and (event.ctrl or event.oskey):
-                self.report({'WARNING'}, "Confirm or cancel Live Deform before undoing")
+                tell(self, 'WARNING', "Confirm or cancel Live Deform before undoing")
                 return {'RUNNING_MODAL'}
         if event.value == 'PRESS' and event.type in {'ESC', 'RIGHTMOUSE'}:
             return self.cancel_and_restore(context)
@@ -173,7 +173,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.end_modal(context)
         self.snapshot.discard()
         lifecycle.forget_cache(self.ob.data)
-        self.report({'INFO'}, "Live Deform: %d updates, %s" % (self.updates, self.stats))
+        tell(self, 'INFO', "Live Deform: %d updates, %s" % (self.updates, self.stats))
         return {'FINISHED'}
 
     def cancel_and_restore(self, context):
@@ -187,7 +187,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             except ReferenceError:
                 pass            # the controller was deleted meanwhile
         if why is not None:
-            self.report({'WARNING'}, "Live Deform cancelled: " + why)
+            tell(self, 'WARNING', "Live Deform cancelled: " + why)
         return {'CANCELLED'}
 
     def abandon(self, context, why):
@@ -197,7 +197,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             self.restore(context)   # the mesh may still exist: put it back as it was
         else:
             self.snapshot.discard()
-        self.report({'WARNING'}, "Live Deform ended: " + why)
+        tell(self, 'WARNING', "Live Deform ended: " + why)
         return {'CANCELLED'}
 
     def cancel(self, context):   # Blender closes the window, quits or loads a file
