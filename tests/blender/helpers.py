@@ -138,7 +138,8 @@ def expect_error(op, fragment="", **kw):
         assert fragment.lower() in str(exc).lower(), (fragment, str(exc))
         print("  expected error:", str(exc).strip())
         return str(exc)
-    raise AssertionError("%s returned %s instead of an error" % (op.idname_py(), result))
+    name = op.idname_py() if hasattr(op, "idname_py") else repr(op)
+    raise AssertionError("%s returned %s instead of an error" % (name, result))
 
 
 class Told:

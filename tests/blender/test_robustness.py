@@ -416,6 +416,37 @@ def test_deleted_controller_and_group():
     assert mesh_fingerprint(ob) == before
 
 
+def test_bake_never_replaces_user_keys():
+    ob, ctrl, handle, static, rest = setup()
+    add_user_key(ob, "EdgeDeform.0003", rest)
+    ctrl.keyframe_insert("location", frame=1)
+    ctrl.location.z += 0.3
+    ctrl.keyframe_insert("location", frame=5)
+    refused(lambda: bpy.ops.edge_deform.bake(use_scene_range=False, frame_start=1,
+                                             frame_end=5, frame_step=2),
+            "not made by Edge Deform", ob)
+    ob.data.shape_keys.key_blocks["EdgeDeform.0003"].name = "Mine"
+    for _ in range(2):                          # a re-bake replaces its own keys only
+        assert bpy.ops.edge_deform.bake(use_scene_range=False, frame_start=1, frame_end=5,
+                                        frame_step=2) == {'FINISHED'}
+    assert ob.data.shape_keys.key_blocks.keys() == [
+        "Basis", "Mine", "EdgeDeform.0001", "EdgeDeform.0003", "EdgeDeform.0005"]
+
+
+def test_frame_handler_problem_is_shown():
+    from edge_deform import operators_bake
+    ob, ctrl, handle, static, rest = setup()
+    ob.edge_deform.animate = True
+    bpy.context.scene.frame_set(2)
+    assert operators_bake.frame_problem(ob) is None
+    ob.vertex_groups.remove(ob.vertex_groups["S"])
+    bpy.context.scene.frame_set(3)              # the handler must not raise
+    assert "'S' does not exist" in operators_bake.frame_problem(ob)
+    ob.vertex_groups.new(name="S").add(static.tolist(), 1.0, 'REPLACE')
+    bpy.context.scene.frame_set(4)
+    assert operators_bake.frame_problem(ob) is None
+
+
 if __name__ == "__main__":
     run([test_apply_keeps_visible_shape_and_user_keys, test_apply_uses_value_and_mute,
          test_mesh_output_with_user_keys, test_output_key_names_refused,
@@ -424,4 +455,5 @@ if __name__ == "__main__":
          test_controller_parented_to_the_object, test_controllers_parented_to_a_rig,
          test_hidden_object, test_modifiers_subdivision_and_mirror,
          test_two_objects_one_mesh, test_save_reopen_solve,
-         test_deleted_controller_and_group])
+         test_deleted_controller_and_group, test_bake_never_replaces_user_keys,
+         test_frame_handler_problem_is_shown])
