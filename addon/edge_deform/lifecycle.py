@@ -189,13 +189,16 @@ def prepare(ob, inputs=None, require_handles=True):
     mesh = ob.data
     digest = mesh_arrays.topology_digest(mesh)
     _check_output(ob, digest)
-    return Bound(ob, inputs, _binding(mesh, inputs, _rest(mesh), digest))
+    binding = _binding(mesh, inputs, _rest(mesh), digest)
+    binding.inputs_owner = ob.name_full   # a linked duplicate has settings of its own
+    return Bound(ob, inputs, binding)
 
 
 def cached_inputs(ob):
-    """The inputs of the last sync for this mesh (playback: groups cannot change), or None."""
+    """The inputs of this object's last sync (playback: groups cannot change), or None."""
     binding = session.get(ob.data.as_pointer())
     if (binding is None or binding.inputs is None or binding.constraint_key == "temporary"
+            or binding.inputs_owner != ob.name_full
             or binding.counts != mesh_arrays.topology_counts(ob.data)):
         return None
     return engine.with_global_changes(binding.inputs, ob)

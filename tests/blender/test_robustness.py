@@ -367,6 +367,11 @@ def test_two_objects_one_mesh():
             shown = key_positions(ob) if output == 'SHAPE_KEY' else positions(ob.data)
             assert np.abs(shown - expected(ob, rest, handle, static)).max() < TOL, \
                 (output, ob.name)
+        # Playback reuses the groups of the last sync: never the other object's settings.
+        from edge_deform import lifecycle
+        lifecycle.deform(a)
+        r = lifecycle.deform(b, reuse_inputs=True, iterations=20)[1].positions
+        assert np.abs(r - expected(b, rest, handle, static)).max() < TOL, output
         if output == 'SHAPE_KEY':
             assert np.array_equal(positions(a.data), rest)
             assert a.data.shape_keys.key_blocks.keys() == ["Basis", "EdgeDeform"]
