@@ -329,6 +329,8 @@ def apply(ob):
     """Make what the user sees the new base mesh and rest shape (see _apply_key)."""
     mesh = ob.data
     st = _state(mesh)
+    if mesh.shape_keys is not None and not mesh.shape_keys.use_relative:
+        raise Refused("Apply needs relative shape keys (Shape Keys > Relative is off)")
     if st.output == 'NONE' or (st.output == 'SHAPE_KEY' and owned_key(mesh) is None):
         deform(ob)   # nothing shown yet: solve now (may refuse; nothing written then)
     if st.output == 'SHAPE_KEY':
@@ -345,8 +347,6 @@ def _apply_key(ob, kb):
     group), move every other key along, remove the output key."""
     mesh = ob.data
     keys = mesh.shape_keys
-    if not keys.use_relative:
-        raise Refused("Apply needs relative shape keys (Shape Keys > Relative is off)")
     K = mesh_arrays.read_key(kb).astype(np.float64)
     weight = 0.0 if kb.mute else float(kb.value)
     delta = weight * (K - mesh_arrays.read_key(kb.relative_key).astype(np.float64))
