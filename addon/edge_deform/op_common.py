@@ -2,7 +2,7 @@
 
 import contextlib
 
-import bpy
+from . import compat
 
 
 def poll_mesh(cls, context, modes=None, need_handles=False):
@@ -28,9 +28,9 @@ def object_mode(ob):
     """Temporarily leave Edit Mode: VertexGroup.add/remove and foreach_set need it."""
     previous = ob.mode
     if previous != 'OBJECT':
-        bpy.ops.object.mode_set(mode='OBJECT')
+        compat.mode_set(ob, 'OBJECT')
     try:
         yield
     finally:
         if previous != 'OBJECT' and ob.mode != previous:
-            bpy.ops.object.mode_set(mode=previous)
+            compat.mode_set(ob, previous)
