@@ -62,6 +62,13 @@ if(CMAKE_SCRIPT_MODE_FILE)
     set(${var} "${CMAKE_MATCH_1}" PARENT_SCOPE)
   endfunction()
 
+  # A Blender that uses the system's Python (Debian's) finds that Python's home through
+  # PATH: with pyenv or conda first on PATH it loads their standard library and cannot
+  # import numpy. Put the folder of the Python the module was built for first.
+  if(ED_PYTHON_DIR)
+    set(ENV{PATH} "${ED_PYTHON_DIR}:$ENV{PATH}")
+  endif()
+
   if(ED_ACTION STREQUAL "stage")
     ed_stage(${ED_DEST} ${ED_FLAT})
   elseif(ED_ACTION STREQUAL "install")
@@ -119,6 +126,7 @@ if(ED_PLATFORM STREQUAL "linux-x86_64")
   set(ED_EXT_PLATFORM linux-x64)
 endif()
 
+get_filename_component(_ed_python_dir ${Python_EXECUTABLE} DIRECTORY)
 find_program(BLENDER_EXECUTABLE blender)
 if(BLENDER_EXECUTABLE AND NOT EDGEDEFORM_BLENDER_PYTHON)
   execute_process(
@@ -150,7 +158,8 @@ else()
   add_custom_target(install_addon
     COMMAND ${CMAKE_COMMAND} -DED_ACTION=install -DED_ADDON_SRC=${ED_ADDON_SRC}
             -DED_PKG_DIR=${ED_PKG_DIR} -DED_BLENDER=${BLENDER_EXECUTABLE}
-            -DED_MODULE_PY=${ED_MODULE_PY} -P ${CMAKE_CURRENT_LIST_FILE}
+            -DED_MODULE_PY=${ED_MODULE_PY} -DED_PYTHON_DIR=${_ed_python_dir}
+            -P ${CMAKE_CURRENT_LIST_FILE}
     DEPENDS edgedeform_python
     COMMENT "Installing the Edge Deform add-on into Blender's user add-on folder"
     USES_TERMINAL)

@@ -15,10 +15,14 @@
 
 import argparse
 import importlib
+import io
 import os
+import re
 import runpy
 import shutil
 import sys
+import tomllib
+import zipfile
 
 
 def parse():
@@ -46,10 +50,45 @@ def private_user_folders(home):
                                                                          "__init__.py"))]
 
 
-def validate(bpy, zip_path):
+def check_contents(zip_path):
+    """What Blender's validation does not check: the wheel is the package, one version."""
+    ext = zipfile.ZipFile(zip_path)
+    names = ext.namelist()
+    manifest = tomllib.loads(ext.read("blender_manifest.toml").decode())
+    assert "__init__.py" in names, names
+    assert not any(n.startswith("edgedeform/") or "__pycache__" in n for n in names), names
+    wheels = [n for n in names if n.startswith("wheels/") and n.endswith(".whl")]
+    assert ["./" + n for n in wheels] == manifest["wheels"], (wheels, manifest["wheels"])
+    wheel = zipfile.ZipFile(io.BytesIO(ext.read(wheels[0])))
+    assert any(n.startswith("edgedeform/_core") and n.endswith(".so") for n in wheel.namelist())
+    init = ext.read("__init__.py").decode()
+    bl_info = re.search(r'"version": \((\d+), (\d+), (\d+)\)', init)
+    versions = {manifest["version"], wheels[0].split("-")[1], ".".join(bl_info.groups())}
+    assert len(versions) == 1, "manifest, wheel and bl_info versions differ: %s" % versions
+    assert manifest["platforms"] == ["linux-x64"] and "linux_x86_64" in wheels[0], manifest
+    assert "permissions" not in manifest, "the add-on touches no files, network or devices"
+
+
+def with_bad_tagline(zip_path, home):
+    """A copy of the zip whose manifest breaks a rule: the validation must refuse it."""
+    bad = os.path.join(home, "bad_manifest.zip")
+    with zipfile.ZipFile(zip_path) as src, zipfile.ZipFile(bad, "w") as dst:
+        for item in src.infolist():
+            data = src.read(item)
+            if item.filename == "blender_manifest.toml":
+                data = re.sub(rb'tagline = "[^"]*"', b'tagline = "Ends with a period."', data)
+            dst.writestr(item, data)
+    return bad
+
+
+def validate(bpy, zip_path, home):
     """Blender's `extension validate` (bl_pkg.cli_extension is what the command line calls)."""
+    check_contents(zip_path)
     bl_pkg = sys.modules.get("bl_pkg") or importlib.import_module("bl_pkg")
     print("bpy %s: extension validate %s" % (bpy.app.version_string, zip_path), flush=True)
+    if bl_pkg.cli_extension(["validate", with_bad_tagline(zip_path, home)]) == 0:
+        print("the validation accepted a broken manifest: it checks nothing")
+        return 1
     return bl_pkg.cli_extension(["validate", zip_path])
 
 
@@ -118,7 +157,9 @@ def main():
     if bpy.app.version < (4, 2, 0):
         print("bpy %s has no extensions (4.2+)" % bpy.app.version_string)
         return 1
-    return validate(bpy, os.path.abspath(args.zip)) if args.validate else run_suite(bpy, args)
+    if args.validate:
+        return validate(bpy, os.path.abspath(args.zip), os.path.abspath(args.home))
+    return run_suite(bpy, args)
 
 
 if __name__ == "__main__":
