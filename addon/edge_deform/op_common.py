@@ -6,7 +6,7 @@ import traceback
 
 import bpy
 
-from . import engine
+from . import compat, engine
 
 
 def poll_mesh(cls, context, modes=None, need_handles=False):
@@ -83,12 +83,12 @@ def object_mode(ob):
     """Temporarily leave Edit Mode: VertexGroup.add/remove and foreach_set need it."""
     previous = ob.mode
     if previous != 'OBJECT':
-        bpy.ops.object.mode_set(mode='OBJECT')
+        compat.mode_set(ob, 'OBJECT')
     try:
         yield
     finally:
         if previous != 'OBJECT' and ob.mode != previous:
-            bpy.ops.object.mode_set(mode=previous)
+            compat.mode_set(ob, previous)
 
 
 class ModalTool:
@@ -144,7 +144,7 @@ class ModalTool:
         ob = None if self.lost() else self.ob
         if ob is not None and ob.mode != 'OBJECT':
             with context.temp_override(object=ob, active_object=ob):
-                bpy.ops.object.mode_set(mode='OBJECT')
+                compat.mode_set(ob, 'OBJECT')
         try:
             self.snapshot.restore(ob)
         except ReferenceError:

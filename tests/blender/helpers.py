@@ -62,6 +62,21 @@ def activate(ob):
     ob.select_set(True)
 
 
+def clear_edge_face_selection(mesh):
+    """Deselect every edge and face (the vertex selection is the caller's)."""
+    stored = [mesh.attributes[n] for n in (".select_edge", ".select_poly")
+              if n in getattr(mesh, "attributes", ())]
+    if stored:
+        # Blender 3.5+ keeps the selection in attributes, and a missing one means "nothing
+        # selected". Removing them also avoids a crash of Blender 5.0.1 when writing the
+        # edge selection of a mesh made by from_pydata.
+        for attribute in stored:
+            mesh.attributes.remove(attribute)
+        return
+    for items in (mesh.edges, mesh.polygons):
+        items.foreach_set("select", np.zeros(len(items), bool))
+
+
 def add_group(ob, name, idx, weight=1.0):
     vg = ob.vertex_groups.get(name) or ob.vertex_groups.new(name=name)
     vg.add(np.asarray(idx).tolist(), weight, 'REPLACE')

@@ -6,7 +6,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from helpers import bpy, expect_error, load, make_object, np, positions, run  # noqa: E402
+from helpers import (bpy, clear_edge_face_selection, expect_error, load, make_object,  # noqa
+                     np, positions, run)
 
 
 def members(ob, name):
@@ -27,8 +28,7 @@ def select(ob, idx):
     sel = np.zeros(len(ob.data.vertices), bool)
     sel[idx] = True
     ob.data.vertices.foreach_set("select", sel)
-    for items in (ob.data.edges, ob.data.polygons):   # else Edit Mode flushes them back
-        items.foreach_set("select", np.zeros(len(items), bool))
+    clear_edge_face_selection(ob.data)   # else Edit Mode flushes them back
     ob.data.update()
     bpy.ops.object.mode_set(mode='EDIT')
 
