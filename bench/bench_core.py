@@ -27,10 +27,10 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
+from edits import SHARED_MESHES, lift_edit  # noqa: E402
 from machine import machine_info  # noqa: E402
 from md_section import replace_section  # noqa: E402
 
-MESHES = "/work/shared/meshes"
 SIZES = {  # read straight from the shared folder; the big ones are not copied
     "1k": "spot_low_resolution.obj",
     "10k": "blub_fish.obj",
@@ -39,21 +39,6 @@ SIZES = {  # read straight from the shared folder; the big ones are not copied
 }
 LAMBDAS = (0.0, 0.5, 1.0)
 DOMAINS = ("edge", "primal")
-
-
-def up_axis(V):
-    ext = np.ptp(V, axis=0)
-    return 2 if ext[2] > 0.01 * np.linalg.norm(ext) else int(np.argmax(ext))
-
-
-def lift_edit(V):
-    ax = up_axis(V)
-    h = V[:, ax]
-    static = np.flatnonzero(h <= np.quantile(h, 0.2))
-    handles = np.flatnonzero(h >= np.quantile(h, 0.9))
-    targets = V[handles].copy()
-    targets[:, ax] += 0.25 * float(np.linalg.norm(np.ptp(V, axis=0)))
-    return handles, static, targets, ax
 
 
 def run_one(ed, V, F, edit, domain, lam, max_iterations, tolerance, repeat):
@@ -200,6 +185,8 @@ def main(argv=None):
     p.add_argument("--repeat", type=int, default=3, help="timings: best of this many runs")
     p.add_argument("--threads", type=int, default=None,
                    help="OpenMP threads (sets OMP_NUM_THREADS before the core loads)")
+    p.add_argument("--meshes", default=str(SHARED_MESHES),
+                   help="folder of the benchmark meshes (default: ../shared/meshes beside the checkout)")
     p.add_argument("--json", default=str(HERE / "results" / "core.json"))
     p.add_argument("--markdown", default=None, help="update this file's core section")
     args = p.parse_args(argv)
@@ -224,7 +211,7 @@ def main(argv=None):
         a for a in (argv or sys.argv[1:]) if a != "--markdown" and a != args.markdown)
     result["commands"] = [c for c in result.get("commands", []) if c != cmd] + [cmd]
     for size in sizes:
-        V, F = read_mesh(f"{MESHES}/{SIZES[size]}")
+        V, F = read_mesh(Path(args.meshes) / SIZES[size])
         edit = lift_edit(V)
         for domain in args.domains.split(","):
             for lam in map(float, args.lambdas.split(",")):
