@@ -94,8 +94,6 @@ class Peers:
         self.skipped = {}
         self.env = dict(os.environ, PYTHONDONTWRITEBYTECODE="1", PYTHONPATH=os.pathsep.join(
             [str(self.build / "python"), str(HERE)]))
-        if args.threads:
-            self.env["OMP_NUM_THREADS"] = str(args.threads)
 
     def available(self, peer):
         reason = None
@@ -125,36 +123,40 @@ class Peers:
         return Path(self.args.venv or self.build / "peers-venv") / "bin" / "python"
 
     def commands(self, peer, folder, edit, ref_iterations, out):
-        """[(method label, command, how its result comes back: 'file' or 'stdout')]."""
+        """[(method label, command, how its result comes back: 'file' or 'stdout',
+        extra environment)]."""
         a = self.args
         common = ["--ref-iterations", ref_iterations, "--ref-tol", a.ref_tol, "--eps", a.eps,
                   "--repeat", a.repeat, "--block", a.block]
         if peer == "edgedeform":
-            return [(f"edgedeform_{dom}_{lam:g}",
+            return [(f"edgedeform_{dom}_{lam:g}" + ("" if t == "default" else f"_t{t}"),
                      [sys.executable, "-m", "peers.run_edgedeform", folder, "--domain", dom,
-                      "--stiffness", lam, "--out", out] + common, "file") for dom, lam in OURS]
+                      "--stiffness", lam, "--out", out] + common, "file",
+                     {} if t == "default" else {"OMP_NUM_THREADS": t})
+                    for t in a.threads.split(",") for dom, lam in OURS]
         if peer == "cgal":
             return [(f"cgal_{name}", [self.cgal_bin(), folder / "mesh.off",
                                       folder / "constraints.txt", tag, ref_iterations,
-                                      a.ref_tol, a.eps, a.repeat, a.block], "stdout")
+                                      a.ref_tol, a.eps, a.repeat, a.block], "stdout", {})
                     for tag, name in (("arap", "original_arap"),
                                       ("spokes_and_rims", "spokes_and_rims"))]
         if peer == "libigl":
             return [(f"libigl_{e}", [self.venv_python(), "-m", "peers.run_libigl", folder,
-                                     "--energy", e, "--out", out] + common, "file")
+                                     "--energy", e, "--out", out] + common, "file", {})
                     for e in ("spokes", "spokes_and_rims")]
         return [("blender_laplacian_deform",
                  [a.blender, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
                   HERE / "peers" / "run_blender_ld.py", "--", folder, "--edit", edit,
-                  "--out", out], "file")]
+                  "--out", out], "file", {})]
 
 
-def run_method(peers, label, cmd, mode, folder, timeout):
+def run_method(peers, label, cmd, mode, extra_env, folder, timeout):
     out = folder / f"{label}.json"
     log = folder / f"{label}.log"
     out.unlink(missing_ok=True)
     with tempfile.TemporaryDirectory() as blender_home:   # never the user's Blender folders
-        env = dict(peers.env, BLENDER_USER_SCRIPTS=blender_home, BLENDER_USER_CONFIG=blender_home)
+        env = dict(peers.env, BLENDER_USER_SCRIPTS=blender_home, BLENDER_USER_CONFIG=blender_home,
+                   **extra_env)
         cmd = [out if c == "OUT" else c for c in cmd]
         code, rss, wall = run_child(cmd, log, timeout, env)
     text = log.read_text(errors="replace")
@@ -193,8 +195,9 @@ def main(argv=None):
     p.add_argument("--eps", type=float, default=1e-3, help="time to within eps * diag")
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--block", type=int, default=10, help="iterations per ms/it sample")
-    p.add_argument("--threads", type=int, default=None,
-                   help="OpenMP threads for edgedeform (default: the package's own choice)")
+    p.add_argument("--threads", default="default",
+                   help="comma list of OpenMP thread counts to run edgedeform with; 'default' = "
+                        "the package's own choice, e.g. 'default,1' (the peers are single-threaded)")
     p.add_argument("--timeout", type=float, default=3600, help="seconds per child")
     p.add_argument("--build", default=str(ROOT / "build"))
     p.add_argument("--cgal-bin", default=None)
@@ -258,8 +261,8 @@ def main(argv=None):
             ref_its = args.ref_iterations if converge == "all" or (
                 converge != "none" and label in converge) else 0
             for peer in active:
-                for method, command, mode in peers.commands(peer, folder, edit, ref_its, "OUT"):
-                    row = run_method(peers, method, command, mode, folder, args.timeout)
+                for method, command, mode, env in peers.commands(peer, folder, edit, ref_its, "OUT"):
+                    row = run_method(peers, method, command, mode, env, folder, args.timeout)
                     row.update(size=label, mesh=path.name, vertices=len(V), faces=len(F),
                                edit=edit, handles=len(handles), static=len(static),
                                load_1min=os.getloadavg()[0])

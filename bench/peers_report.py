@@ -21,6 +21,20 @@ CGAL, IGL = "cgal_original_arap", "libigl_spokes"
 BLENDER = "blender_laplacian_deform"
 
 
+def label(method):
+    """Display name; edgedeform run with a fixed thread count carries it ("_t1")."""
+    base, _, t = method.partition("_t")
+    if method.startswith("edgedeform_") and t.isdigit():
+        return f"{LABELS.get(base, base)}, {t} thread{'s' if t != '1' else ''}"
+    return LABELS.get(method, method)
+
+
+def _suffixes(methods):
+    """The thread variants of ours present: '' (the package's default) and '_tN'."""
+    return sorted({m[len(EDGE):] for m in methods if m.startswith(EDGE)}
+                  | {m[len(PRIMAL):] for m in methods if m.startswith(PRIMAL)})
+
+
 def derive(row, eps):
     """Numbers every method gets from its raw measurements (in place)."""
     row["eps"] = eps
@@ -41,7 +55,7 @@ def _fmt(x, spec=".1f", none="—"):
 
 
 def one_line(row):
-    name = LABELS.get(row["method"], row["method"])
+    name = label(row["method"])
     if "error" in row:
         return f"{row['size']:>5} {row['edit']:<6} {name:<26} FAILED: {row['error']}"
     if row["method"] == BLENDER:
@@ -65,36 +79,40 @@ def _by_case(rows):
     return cases
 
 
+def _case_ratios(m, sfx):
+    """Ratios of one (mesh, edit) for ours run with thread variant `sfx`."""
+    edge, primal = EDGE + sfx, PRIMAL + sfx
+    first = next(iter(m.values()))
+    r = {"size": first["size"], "edit": first["edit"], "mesh": first["mesh"],
+         "vertices": first["vertices"], "threads": sfx[2:] if sfx else "default"}
+
+    def put(key, a, b, value_a, value_b=None):
+        if a in m and b in m:
+            x, y = value_a(m[a]), (value_b or value_a)(m[b])
+            r[key] = x / y if x and y else None
+
+    def field(name):
+        return lambda row: row.get(name)
+
+    put("edge_cgal_it", edge, CGAL, field("ms_per_it"))
+    put("primal_cgal_it", primal, CGAL, field("ms_per_it"))
+    put("primal_libigl_it", primal, IGL, field("ms_per_it"))
+    put("primal_libigl_sr_it", primal, "libigl_spokes_and_rims", field("ms_per_it"))
+    put("edge_cgal_pre", edge, CGAL, field("precompute_ms"))
+    put("primal_cgal_pre", primal, CGAL, field("precompute_ms"))
+    put("edge_cgal_eps", edge, CGAL, best_time_to_eps)
+    put("primal_cgal_eps", primal, CGAL, best_time_to_eps)
+    put("primal_libigl_eps", primal, IGL, best_time_to_eps)
+    put("edge_cgal_mem", edge, CGAL, field("peak_rss_mb"))
+    put("blender_over_edge_live", BLENDER, edge, field("frame_ms"), field("live_update_ms"))
+    put("blender_over_primal_live", BLENDER, primal, field("frame_ms"), field("live_update_ms"))
+    return r
+
+
 def ratios(rows):
-    """Per (mesh, edit): ours over the peer (below 1 = ours faster), and Blender's frame
-    over our live update (above 1 = ours faster)."""
-    out = []
-    for (size, edit), m in _by_case(rows).items():
-        r = {"size": size, "edit": edit, "mesh": next(iter(m.values()))["mesh"],
-             "vertices": next(iter(m.values()))["vertices"]}
-
-        def put(key, a, b, field, num=None, den=None):
-            if a in m and b in m:
-                x = num(m[a]) if num else m[a].get(field)
-                y = den(m[b]) if den else m[b].get(field)
-                r[key] = x / y if x and y else None
-
-        put("edge_cgal_it", EDGE, CGAL, "ms_per_it")
-        put("primal_cgal_it", PRIMAL, CGAL, "ms_per_it")
-        put("primal_libigl_it", PRIMAL, IGL, "ms_per_it")
-        put("primal_libigl_sr_it", PRIMAL, "libigl_spokes_and_rims", "ms_per_it")
-        put("edge_cgal_pre", EDGE, CGAL, "precompute_ms")
-        put("primal_cgal_pre", PRIMAL, CGAL, "precompute_ms")
-        put("edge_cgal_eps", EDGE, CGAL, None, best_time_to_eps, best_time_to_eps)
-        put("primal_cgal_eps", PRIMAL, CGAL, None, best_time_to_eps, best_time_to_eps)
-        put("primal_libigl_eps", PRIMAL, IGL, None, best_time_to_eps, best_time_to_eps)
-        put("edge_cgal_mem", EDGE, CGAL, "peak_rss_mb")
-        put("blender_over_edge_live", BLENDER, EDGE, None, lambda x: x["frame_ms"],
-            lambda x: x.get("live_update_ms"))
-        put("blender_over_primal_live", BLENDER, PRIMAL, None, lambda x: x["frame_ms"],
-            lambda x: x.get("live_update_ms"))
-        out.append(r)
-    return out
+    """Per (mesh, edit, our thread setting): ours over the peer (below 1 = ours faster), and
+    Blender's frame over our live update (above 1 = ours faster)."""
+    return [_case_ratios(m, sfx) for m in _by_case(rows).values() for sfx in _suffixes(m) or [""]]
 
 
 def method_table(rows):
@@ -102,7 +120,7 @@ def method_table(rows):
             "(reference) | time to ε s | peak RSS MB | live update / frame ms |")
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for r in rows:
-        name = LABELS.get(r["method"], r["method"])
+        name = label(r["method"])
         lead = f"| {r['mesh']} | {r['vertices']:,} | {r['edit']} | {name} |"
         if "error" in r:
             lines.append(lead + " failed | | | | | |")
@@ -142,10 +160,10 @@ RATIO_COLUMNS = (
 
 def ratio_table(ratio_rows):
     cols = [c for c in RATIO_COLUMNS if any(c[0] in r for r in ratio_rows)]
-    lines = ["| mesh | edit | " + " | ".join(t for _, t in cols) + " |",
-             "|---|---|" + "---|" * len(cols)]
+    lines = ["| mesh | edit | our threads | " + " | ".join(t for _, t in cols) + " |",
+             "|---|---|---|" + "---|" * len(cols)]
     for r in ratio_rows:
-        lines.append(f"| {r['mesh']} ({r['vertices']:,}) | {r['edit']} | "
+        lines.append(f"| {r['mesh']} ({r['vertices']:,}) | {r['edit']} | {r['threads']} | "
                      + " | ".join(_fmt(r.get(k), ".2f") for k, _ in cols) + " |")
     return "\n".join(lines)
 
@@ -161,11 +179,11 @@ def plot(result, path):
               ("time_to_eps", f"time to within {rows[0]['eps'] if rows else 1e-3:g}·diag (s)"))
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6))
     for ax, (field, title) in zip(axes, panels):
-        for method, label in LABELS.items():
+        for method in sorted({r["method"] for r in rows}):
             pts = sorted((r["vertices"], _value(r, field)) for r in rows if r["method"] == method)
             pts = [(n, v) for n, v in pts if v]
             if pts:
-                ax.plot(*zip(*pts), "o-", label=label)
+                ax.plot(*zip(*pts), "o-", label=label(method))
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("vertices")
@@ -192,29 +210,31 @@ def _value(r, field):
 def _verdicts(result):
     """The issue-8 targets this run can speak to, measured (never assumed)."""
     out = []
-    rat = {(r["size"], r["edit"]): r for r in result.get("ratios", [])}
+    rat = {(r["size"], r["edit"], r["threads"]): r for r in result.get("ratios", [])}
     rows = {(r["size"], r["edit"], r["method"]): r for r in result["rows"] if "error" not in r}
-    for edit in ("lift", "twist"):
-        big = rows.get(("140k", edit, EDGE))
+    for edit, sfx in ((e, s) for e in ("lift", "twist") for s in _suffixes(
+            [k[2] for k in rows])):
+        threads = f"{sfx[2:]} thread(s)" if sfx else "default threads"
+        big = rows.get(("140k", edit, EDGE + sfx))
         if big:
-            out.append(f"- 140k, edge λ=0.5, {edit}: {big['ms_per_it']:.1f} ms/it (target ≤ 70: "
+            out.append(f"- 140k, edge λ=0.5, {edit}, {threads}: {big['ms_per_it']:.1f} ms/it (target ≤ 70: "
                        f"{'met' if big['ms_per_it'] <= 70 else 'missed'}), precompute "
                        f"{big['precompute_ms'] / 1e3:.2f} s (≤ 2.5 s: "
                        f"{'met' if big['precompute_ms'] <= 2500 else 'missed'}), peak memory "
                        f"{big['peak_rss_mb']:.0f} MB (≤ 1.5 GB: "
                        f"{'met' if big['peak_rss_mb'] <= 1536 else 'missed'}).")
-        r = rat.get(("50k", edit))
+        r = rat.get(("50k", edit, sfx[2:] if sfx else "default"))
         if r:
             for key, target, what in (("edge_cgal_it", 0.35, "edge / CGAL ARAP per iteration"),
                                       ("primal_cgal_it", 0.15, "primal / CGAL ARAP per iteration"),
                                       ("primal_libigl_it", 0.5,
                                        "primal / libigl ARAP per iteration")):
                 if r.get(key):
-                    out.append(f"- 50k, {edit}: {what} {r[key]:.2f} (target ≤ {target}: "
+                    out.append(f"- 50k, {edit}, {threads}: {what} {r[key]:.2f} (target ≤ {target}: "
                                f"{'met' if r[key] <= target else 'missed'}).")
             if r.get("blender_over_edge_live"):
                 v = r["blender_over_edge_live"]
-                out.append(f"- 50k, {edit}: Blender Laplacian Deform frame / one edge live update "
+                out.append(f"- 50k, {edit}, {threads}: Blender Laplacian Deform frame / one edge live update "
                            f"= {v:.1f}× (target ≥ 10×: {'met' if v >= 10 else 'missed'}).")
     return "\n".join(out)
 
