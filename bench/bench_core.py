@@ -35,10 +35,11 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
+from edits import SHARED_MESHES, lift_edit, up_axis  # noqa: E402
 from machine import machine_info  # noqa: E402
 from md_section import replace_section  # noqa: E402
 
-MESHES = "/work/shared/meshes"
+MESHES = SHARED_MESHES  # --meshes replaces it
 SIZES = {  # read straight from the shared folder; the big ones are not copied
     "1k": "spot_low_resolution.obj",
     "10k": "blub_fish.obj",
@@ -48,21 +49,6 @@ SIZES = {  # read straight from the shared folder; the big ones are not copied
 ROI_REFERENCE = "cgal_dino.off"  # 3,916 vertices: the whole mesh the region is compared with
 LAMBDAS = (0.0, 0.5, 1.0)
 DOMAINS = ("edge", "primal")
-
-
-def up_axis(V):
-    ext = np.ptp(V, axis=0)
-    return 2 if ext[2] > 0.01 * np.linalg.norm(ext) else int(np.argmax(ext))
-
-
-def lift_edit(V):
-    ax = up_axis(V)
-    h = V[:, ax]
-    static = np.flatnonzero(h <= np.quantile(h, 0.2))
-    handles = np.flatnonzero(h >= np.quantile(h, 0.9))
-    targets = V[handles].copy()
-    targets[:, ax] += 0.25 * float(np.linalg.norm(np.ptp(V, axis=0)))
-    return handles, static, targets, ax
 
 
 def belt_group(V, ax):
@@ -366,9 +352,13 @@ def main(argv=None):
                    help="keep one core busy with a second process during the run")
     p.add_argument("--roi", action="store_true",
                    help="only the region-of-interest comparison (results under 'roi')")
+    p.add_argument("--meshes", default=str(SHARED_MESHES),
+                   help="folder of the benchmark meshes (default: ../shared/meshes beside the checkout)")
     p.add_argument("--json", default=str(HERE / "results" / "core.json"))
     p.add_argument("--markdown", default=None, help="update this file's core section")
     args = p.parse_args(argv)
+    global MESHES
+    MESHES = Path(args.meshes)
 
     if args.threads:
         os.environ["OMP_NUM_THREADS"] = str(args.threads)
