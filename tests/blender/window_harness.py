@@ -139,7 +139,7 @@ def main(steps):
             print("WINDOW TEST FAILED")
             sys.stdout.flush()
             os._exit(1)
-        if time.time() - started > 120:
+        if time.time() - started > 400:   # a loaded 2-core machine is slow; ctest allows 600
             print("WINDOW TEST TIMED OUT")
             sys.stdout.flush()
             os._exit(1)
