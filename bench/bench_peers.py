@@ -144,10 +144,15 @@ class Peers:
             return [(f"libigl_{e}", [self.venv_python(), "-m", "peers.run_libigl", folder,
                                      "--energy", e, "--out", out] + common, "file", {})
                     for e in ("spokes", "spokes_and_rims")]
+        # Debian's Blender embeds the system Python, which finds its home through the
+        # python3 on PATH: a pyenv there (as when ctest itself comes from pip) would hand it
+        # another Python's standard library, without NumPy.
+        path = os.pathsep.join(d for d in os.environ.get("PATH", "").split(os.pathsep)
+                               if "/.pyenv/" not in d + "/")
         return [("blender_laplacian_deform",
                  [a.blender, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
                   HERE / "peers" / "run_blender_ld.py", "--", folder, "--edit", edit,
-                  "--out", out], "file", {})]
+                  "--out", out], "file", {"PATH": path})]
 
 
 def run_method(peers, label, cmd, mode, extra_env, folder, timeout):
@@ -278,7 +283,9 @@ def main(argv=None):
     print()
     print(peers_report.method_table(result["rows"]))
     print()
-    print(peers_report.ratio_table(result["ratios"]))
+    print(peers_report.ratio_table(result["ratios"], peers_report.PER_ITERATION_RATIOS))
+    print()
+    print(peers_report.ratio_table(result["ratios"], peers_report.OTHER_RATIOS))
     if args.plot:
         try:
             peers_report.plot(result, args.plot)

@@ -95,6 +95,9 @@ def _case_ratios(m, sfx):
         return lambda row: row.get(name)
 
     put("edge_cgal_it", edge, CGAL, field("ms_per_it"))
+    put("edge_cgal_cpu_it", edge, CGAL, field("cpu_ms_per_it"))
+    put("primal_cgal_cpu_it", primal, CGAL, field("cpu_ms_per_it"))
+    put("primal_libigl_cpu_it", primal, IGL, field("cpu_ms_per_it"))
     put("primal_cgal_it", primal, CGAL, field("ms_per_it"))
     put("primal_libigl_it", primal, IGL, field("ms_per_it"))
     put("primal_libigl_sr_it", primal, "libigl_spokes_and_rims", field("ms_per_it"))
@@ -116,17 +119,17 @@ def ratios(rows):
 
 
 def method_table(rows):
-    head = ("| mesh | vertices | edit | method | precompute ms | ms/it | iterations to ε "
-            "(reference) | time to ε s | peak RSS MB | live update / frame ms |")
+    head = ("| mesh | vertices | edit | method | precompute ms | ms/it | CPU ms/it "
+            "| iterations to ε (reference) | time to ε s | peak RSS MB | live update / frame ms |")
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for r in rows:
         name = label(r["method"])
         lead = f"| {r['mesh']} | {r['vertices']:,} | {r['edit']} | {name} |"
         if "error" in r:
-            lines.append(lead + " failed | | | | | |")
+            lines.append(lead + " failed | | | | | | |")
         elif r["method"] == BLENDER:
             lines.append(lead + f" {r['precompute_ms']:.0f} (bind + 1st frame) | — "
-                         f"| — (direct solve) | — | {r['peak_rss_mb']:.0f} "
+                         f"| {_fmt(r.get('frame_cpu_ms'))} per frame | — (direct solve) | — | {r['peak_rss_mb']:.0f} "
                          f"| {r['frame_ms']:.1f} per frame (LD {r['ld_ms']:.1f}) |")
         else:
             ref = r["ref_iterations"]
@@ -139,27 +142,31 @@ def method_table(rows):
                 its = "not run"
             t = best_time_to_eps(r)
             live = r.get("live_update_ms")
-            lines.append(lead + f" {r['precompute_ms']:.0f} | {r['ms_per_it']:.2f} | {its} "
+            lines.append(lead + f" {r['precompute_ms']:.0f} | {r['ms_per_it']:.2f} "
+                         f"| {_fmt(r.get('cpu_ms_per_it'), '.2f')} | {its} "
                          f"| {_fmt(t and t / 1e3, '.2f')} | {r['peak_rss_mb']:.0f} "
                          f"| {_fmt(live, '.1f')}{' live' if live else ''} |")
     return "\n".join(lines)
 
 
-RATIO_COLUMNS = (
-    ("edge_cgal_it", "edge / CGAL ARAP ms/it"), ("primal_cgal_it", "primal / CGAL ARAP ms/it"),
-    ("primal_libigl_it", "primal / libigl spokes ms/it"),
-    ("primal_libigl_sr_it", "primal / libigl s+r ms/it"),
-    ("edge_cgal_pre", "edge / CGAL precompute"), ("primal_cgal_pre", "primal / CGAL precompute"),
-    ("edge_cgal_eps", "edge / CGAL ARAP time to ε"),
-    ("primal_cgal_eps", "primal / CGAL ARAP time to ε"),
-    ("primal_libigl_eps", "primal / libigl spokes time to ε"),
-    ("edge_cgal_mem", "edge / CGAL memory"),
+PER_ITERATION_RATIOS = (
+    ("edge_cgal_it", "edge / CGAL ARAP"), ("primal_cgal_it", "primal / CGAL ARAP"),
+    ("primal_libigl_it", "primal / libigl spokes"), ("primal_libigl_sr_it", "primal / libigl s+r"),
+    ("edge_cgal_cpu_it", "CPU: edge / CGAL ARAP"), ("primal_cgal_cpu_it", "CPU: primal / CGAL ARAP"),
+    ("primal_libigl_cpu_it", "CPU: primal / libigl spokes"))
+OTHER_RATIOS = (
+    ("edge_cgal_pre", "precompute edge / CGAL"), ("primal_cgal_pre", "precompute primal / CGAL"),
+    ("edge_cgal_eps", "time to ε edge / CGAL ARAP"),
+    ("primal_cgal_eps", "time to ε primal / CGAL ARAP"),
+    ("primal_libigl_eps", "time to ε primal / libigl spokes"),
+    ("edge_cgal_mem", "memory edge / CGAL"),
     ("blender_over_edge_live", "Blender frame / edge live update"),
     ("blender_over_primal_live", "Blender frame / primal live update"))
 
 
-def ratio_table(ratio_rows):
-    cols = [c for c in RATIO_COLUMNS if any(c[0] in r for r in ratio_rows)]
+def ratio_table(ratio_rows, columns):
+    cols = [c for c in columns if any(r.get(c[0]) for r in ratio_rows)]
+    ratio_rows = [r for r in ratio_rows if any(r.get(k) for k, _ in cols)]
     lines = ["| mesh | edit | our threads | " + " | ".join(t for _, t in cols) + " |",
              "|---|---|---|" + "---|" * len(cols)]
     for r in ratio_rows:
@@ -284,10 +291,15 @@ its own process:
 
 {method_table(result['rows'])}
 
-Ratios (ours / peer: below 1 means ours is faster or smaller; Blender frame / our live
-update: above 1 means ours is faster):
+Ratios per iteration, ours / peer (below 1: ours faster), wall clock and CPU time (all
+threads of the process):
 
-{ratio_table(result['ratios'])}
+{ratio_table(result['ratios'], PER_ITERATION_RATIOS)}
+
+Other ratios: ours / peer (below 1: ours faster or smaller), and Blender's frame / our live
+update (above 1: ours faster):
+
+{ratio_table(result['ratios'], OTHER_RATIOS)}
 
 Issue 8 targets this benchmark measures:
 {_verdicts(result) or '- (no 50k / 140k rows in this run)'}

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -70,6 +71,14 @@ Problem read_constraints(const std::string& path, std::size_t n) {
   for (std::size_t i : p.fixed)
     if (i >= n) throw std::out_of_range("constraints: static index out of range");
   return p;
+}
+
+// CPU time of the whole process (all threads), ms: load from other processes hardly
+// changes it, unlike wall time.
+double cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
 }
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
@@ -145,13 +154,15 @@ int run(Mesh& mesh, const Problem& p, int ref_iterations, double ref_tol, double
     return dm;
   };
 
-  std::vector<double> pre_ms;
+  std::vector<double> pre_ms, pre_cpu;
   std::unique_ptr<Deformation> dm;
   for (int r = 0; r < repeat; ++r) {
     dm.reset();
+    const double c0 = cpu_ms();
     auto t0 = std::chrono::steady_clock::now();
     dm = make();
     pre_ms.push_back(ms_since(t0));
+    pre_cpu.push_back(cpu_ms() - c0);
   }
 
   // Reference: its own converged shape, one iteration at a time from the rest shape.
@@ -185,11 +196,13 @@ int run(Mesh& mesh, const Problem& p, int ref_iterations, double ref_tol, double
   }
 
   // Per iteration: blocks of `block` iterations (no energy evaluation: tolerance 0).
-  std::vector<double> it_ms;
+  std::vector<double> it_ms, it_cpu;
   for (int r = 0; r < repeat; ++r) {
+    const double c0 = cpu_ms();
     auto t0 = std::chrono::steady_clock::now();
     dm->deform(block, 0.0);
     it_ms.push_back(ms_since(t0) / block);
+    it_cpu.push_back((cpu_ms() - c0) / block);
   }
 
   std::ostringstream out;
@@ -198,7 +211,9 @@ int run(Mesh& mesh, const Problem& p, int ref_iterations, double ref_tol, double
       << "\", \"solver\": \"Eigen SparseLU (CGAL default)\", \"threads\": 1"
       << ", \"vertices\": " << rest.size()
       << ", \"precompute_ms\": " << median(pre_ms) << ", \"precompute_ms_all\": " << json_list(pre_ms)
+      << ", \"precompute_cpu_ms\": " << median(pre_cpu)
       << ", \"ms_per_it\": " << median(it_ms) << ", \"ms_per_it_all\": " << json_list(it_ms)
+      << ", \"cpu_ms_per_it\": " << median(it_cpu)
       << ", \"ref_iterations\": " << residuals.size()
       << ", \"ref_converged\": " << (ref_converged ? "true" : "false")
       << ", \"ref_error_estimate\": ";

@@ -5,7 +5,8 @@ factorization; returns its own ms or None for "time me"), start() (back to the r
 with the handle targets set) and step(k) (k more iterations; returns the (n, 3) positions).
 
 - precompute: median of `repeat` fresh precomputes;
-- ms/it: wall time of step(block) / block, `repeat` times;
+- ms/it: wall time of step(block) / block, `repeat` times; also the process's CPU time
+  (all its threads), which load from other processes hardly changes;
 - reference: its own converged shape: one iteration at a time from the start until the
   estimated distance to the fixed point is <= ref_tol * diag, at most ref_iterations. The
   estimate is r * rate / (1 - rate), r = the largest vertex move of the last iteration,
@@ -55,12 +56,14 @@ def iterations_to(method, ref, diag, eps, budget):
 
 
 def measure(method, rest, diag, ref_iterations=2000, ref_tol=1e-4, eps=1e-3, repeat=3, block=10):
-    pre = []
+    pre, pre_cpu = [], []
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        c0, t0 = time.process_time(), time.perf_counter()
         own = method.precompute()
         pre.append(own if own is not None else (time.perf_counter() - t0) * 1e3)
-    out = {"precompute_ms": float(np.median(pre)), "precompute_ms_all": pre}
+        pre_cpu.append((time.process_time() - c0) * 1e3)
+    out = {"precompute_ms": float(np.median(pre)), "precompute_ms_all": pre,
+           "precompute_cpu_ms": float(np.median(pre_cpu))}
     ref, residuals = reference(method, rest, diag, ref_iterations, ref_tol)
     est = distance_estimate(residuals)
     out.update(ref_iterations=len(residuals), ref_error_estimate=est,
@@ -68,10 +71,12 @@ def measure(method, rest, diag, ref_iterations=2000, ref_tol=1e-4, eps=1e-3, rep
                residual_tail=residuals[-10:], eps_iterations=None)
     if residuals:
         out["eps_iterations"] = iterations_to(method, ref, diag, eps, len(residuals))
-    it_ms = []
+    it_ms, it_cpu = [], []
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        c0, t0 = time.process_time(), time.perf_counter()
         method.step(block)
         it_ms.append((time.perf_counter() - t0) * 1e3 / block)
-    out.update(ms_per_it=float(np.median(it_ms)), ms_per_it_all=it_ms)
+        it_cpu.append((time.process_time() - c0) * 1e3 / block)
+    out.update(ms_per_it=float(np.median(it_ms)), ms_per_it_all=it_ms,
+               cpu_ms_per_it=float(np.median(it_cpu)))
     return out, ref
