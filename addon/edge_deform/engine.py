@@ -184,11 +184,13 @@ def controller_state(inputs):
                  for g in inputs.handle_groups)
 
 
-def solve(binding, targets, iterations, tolerance, warm=True):
-    """One solve; warm-starts from the previous result of this binding when allowed."""
+def solve(binding, targets, iterations, tolerance, warm=True, acceleration='ANDERSON'):
+    """One solve; warm-starts from the previous result of this binding when allowed (with
+    unchanged targets that continues the same, accelerated, iteration)."""
     warm = bool(warm and binding.last is not None)
     result = binding.deformer.solve(targets, max_iterations=int(iterations),
-                                    tolerance=float(tolerance), warm_start=warm)
+                                    tolerance=float(tolerance), warm_start=warm,
+                                    acceleration=acceleration.lower())
     binding.last = result
     return result
 
@@ -237,7 +239,7 @@ def deform(ob, warm=True, fresh=False, reuse_inputs=False):
         inputs = gather_inputs(ob)
         binding = ensure_binding(ob, inputs, fresh=fresh)
     result = solve(binding, handle_targets(ob, binding, inputs), s.iterations, s.tolerance,
-                   warm=warm)
+                   warm=warm, acceleration=s.acceleration)
     write(ob, binding, result.positions)
     return binding, result
 

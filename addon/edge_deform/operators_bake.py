@@ -78,7 +78,7 @@ class EDGE_DEFORM_OT_bake(bpy.types.Operator):
                 scene.frame_set(f)
                 targets = engine.handle_targets(ob, binding, inputs)
                 results.append(engine.solve(binding, targets, self.iterations,
-                                            s.tolerance).positions)
+                                            s.tolerance, acceleration=s.acceleration).positions)
         except engine.USER_ERRORS as exc:
             self.report({'ERROR'}, "Edge Deform: %s" % exc)
             return {'CANCELLED'}

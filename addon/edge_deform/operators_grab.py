@@ -103,10 +103,12 @@ class EDGE_DEFORM_OT_grab(bpy.types.Operator):
             if self.first:   # start from what is shown, not from the rest shape
                 r = self.binding.deformer.solve(targets, max_iterations=iterations,
                                                 tolerance=s.tolerance, warm_start=False,
-                                                initial=self.current)
+                                                initial=self.current,
+                                                acceleration=s.acceleration.lower())
             else:
                 r = self.binding.deformer.solve(targets, max_iterations=iterations,
-                                                tolerance=s.tolerance, warm_start=True)
+                                                tolerance=s.tolerance, warm_start=True,
+                                                acceleration=s.acceleration.lower())
             self.budget.record(r, (time.perf_counter() - t0) * 1e3)
         except engine.USER_ERRORS as exc:
             self.report({'ERROR'}, "Edge Deform: %s" % exc)
@@ -116,7 +118,8 @@ class EDGE_DEFORM_OT_grab(bpy.types.Operator):
         self.binding.last = r
         engine.write(self.ob, self.binding, r.positions)
         self.dirty, self.converged = False, r.converged
-        self.stats = "%d it, %.1f ms" % (r.iterations, (time.perf_counter() - t0) * 1e3)
+        self.stats = "%d it, %.1f ms, %s" % (r.iterations, (time.perf_counter() - t0) * 1e3,
+                                             "settled" if r.converged else "settling")
         self.header()
 
     def header(self):

@@ -88,7 +88,7 @@ class EDGE_DEFORM_OT_live(bpy.types.Operator):
             t0 = time.perf_counter()
             targets = engine.handle_targets(ob, self.binding, self.inputs)
             r = engine.solve(self.binding, targets, self.budget.iterations(s.iterations),
-                             s.tolerance, warm=True)
+                             s.tolerance, warm=True, acceleration=s.acceleration)
             self.budget.record(r, (time.perf_counter() - t0) * 1e3)
             engine.write(ob, self.binding, r.positions)
         except engine.USER_ERRORS as exc:
@@ -99,7 +99,8 @@ class EDGE_DEFORM_OT_live(bpy.types.Operator):
         self.controllers_state = state
         self.converged = r.converged
         self.updates += 1
-        self.stats = "%d it, %.1f ms" % (r.iterations, (time.perf_counter() - t0) * 1e3)
+        self.stats = "%d it, %.1f ms, %s" % (r.iterations, (time.perf_counter() - t0) * 1e3,
+                                             "settled" if r.converged else "settling")
         self.header(context)
 
     def header(self, context):
