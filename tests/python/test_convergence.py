@@ -142,3 +142,14 @@ def test_lambda0_samples_stay_bounded_and_honest(sample, domain):
     assert r.converged or any("not converged" in w for w in r.warnings)
     if r.converged:
         assert r.distance_estimate < TOL
+
+
+def test_bad_acceleration_arguments_name_the_problem():
+    V, F = load(SPOT)
+    handles, static, targets = EDITS["lift"](V)
+    d = deformer(V, F, "edge", 0.5, handles, static)
+    with pytest.raises(ValueError, match="acceleration"):
+        d.solve(targets, acceleration="fast")
+    with pytest.raises(ValueError, match="anderson_window"):
+        d.solve(targets, anderson_window=0)
+    assert d.solve(targets, max_iterations=2).iterations == 2   # still usable
