@@ -49,8 +49,8 @@ def test_converged_means_within_tolerance_of_the_fixed_point(name, edit, domain,
     X_ref = reference(d, targets)
     for acceleration in ("anderson", "none"):
         r = d.solve(targets, warm_start=False, tolerance=TOL, acceleration=acceleration)
-        record(f"{edit} to 1e-3 diag", name, domain, lam, r.iterations if r.converged else None,
-               acceleration)
+        record(f"to 1e-3 diag: {edit}", name, domain, lam,
+               r.iterations if r.converged else None, acceleration)
         assert r.converged, r.warnings
         assert r.distance_estimate < TOL
         assert distance(r.positions, X_ref, V) <= 2 * TOL, acceleration
