@@ -15,7 +15,7 @@ REPO = os.path.dirname(HERE)
 
 
 class AddonCheck:
-    def __init__(self, samples_dir, out, max_iterations=3000, tolerance=1e-4):
+    def __init__(self, samples_dir, out, max_iterations=3000, tolerance=1e-3):
         self.samples_dir = samples_dir or os.path.join(REPO, "blend_samples")
         self.work = os.path.join(out, "addon_check")
         self.max_iterations, self.tolerance = max_iterations, tolerance

@@ -19,7 +19,7 @@ def cell_specs():
     return specs
 
 
-def run_cells(ed, V, F, setup, max_iterations=2000, tolerance=1e-4, repeat=1, log=print):
+def run_cells(ed, V, F, setup, max_iterations=2000, tolerance=1e-3, repeat=1, log=print):
     """Solve every cell; returns a list of dicts (positions kept under "positions").
     ms is the best of `repeat` identical solves (the 2 cores here are shared; the best run
     is the least disturbed), each from a fresh factorization."""

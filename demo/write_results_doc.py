@@ -32,7 +32,8 @@ def main(out, docs):
         "`demo/write_results_doc.py`). Every number below is copied from the run's "
         "`metrics.json`; nothing is typed in by hand except the reading in the next section.",
         "",
-        "Run settings: tolerance %g on the relative energy change, at most %d iterations, every "
+        "Run settings: converged = estimated largest vertex distance to the fixed point below "
+        "%g of the bounding-box diagonal (Anderson-accelerated), at most %d iterations, every "
         "cell started from the naive Laplacian (no warm start), ms = %s (factorization included) "
         "on a 2-core machine shared with other jobs, so timings are indicative only. Package: "
         "solver %s, OpenMP %s, %s." % (

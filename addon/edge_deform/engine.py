@@ -170,8 +170,9 @@ class IterationBudget:
 def status(result, elapsed_ms=None):
     """The one place where a solve result becomes words for the user: (level, text) lines
     for reports and headers, and whether the tools may stop iterating."""
-    text = "%d iterations%s" % (result.iterations,
-                                "" if result.converged else " (not converged)")
+    # "settled" only when the solver's distance estimate says converged (docs/api.md).
+    text = "%d iterations, %s" % (result.iterations,
+                                  "settled" if result.converged else "settling\u2026")
     if elapsed_ms is not None:
         text += ", %.1f ms" % elapsed_ms
     lines = [('WARNING', w) for w in result.warnings]

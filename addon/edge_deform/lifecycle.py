@@ -153,15 +153,20 @@ class Bound:
         return engine.handle_targets(self.ob, self.binding.X, self.inputs)
 
     def solve(self, targets, iterations, tolerance, warm=True, initial=None):
-        """One solve; warm-starts from this binding's previous result when allowed."""
+        """One solve; warm-starts from this binding's previous result when allowed (with
+        unchanged targets that continues the same accelerated iteration, so a drag that
+        stops settles on the cold solve's shape)."""
         deformer = self.binding.deformer
+        acceleration = self.ob.edge_deform.acceleration.lower()
         if initial is not None:
             r = deformer.solve(targets, max_iterations=int(iterations),
-                               tolerance=float(tolerance), warm_start=False, initial=initial)
+                               tolerance=float(tolerance), warm_start=False, initial=initial,
+                               acceleration=acceleration)
         else:
             r = deformer.solve(targets, max_iterations=int(iterations),
                                tolerance=float(tolerance),
-                               warm_start=bool(warm and self.binding.last is not None))
+                               warm_start=bool(warm and self.binding.last is not None),
+                               acceleration=acceleration)
         self.binding.last = r
         return r
 

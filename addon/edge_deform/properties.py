@@ -44,8 +44,13 @@ class EdgeDeformSettings(bpy.types.PropertyGroup):
         name="Iterations", default=4, min=1, max=1000,
         description="Local/global iterations per update")
     tolerance: FloatProperty(
-        name="Tolerance", default=1e-4, min=0.0, max=1.0, precision=6,
-        description="Stop when the relative energy change is below this")
+        name="Tolerance", default=1e-3, min=0.0, max=1.0, precision=6,
+        description="Converged (settled) when the estimated largest vertex distance to the "
+                    "solution is below this fraction of the bounding-box diagonal")
+    acceleration: EnumProperty(
+        name="Acceleration", default='ANDERSON',
+        items=[('ANDERSON', "Anderson", "Accelerated iteration (same result, fewer iterations)"),
+               ('NONE', "None", "Plain local/global iteration")])
     output: EnumProperty(
         name="Output", default='SHAPE_KEY',
         items=[('SHAPE_KEY', "Shape Key", "Write into the shape key 'EdgeDeform'; "

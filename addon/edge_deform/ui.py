@@ -92,6 +92,7 @@ class EDGE_DEFORM_PT_main(bpy.types.Panel):
         row = box.row(align=True)
         row.prop(s, "iterations")
         row.prop(s, "tolerance")
+        box.prop(s, "acceleration")
         box.prop(s, "output", expand=True)
         if s.output == 'SHAPE_KEY':
             box.prop(s, "shape_key_name")

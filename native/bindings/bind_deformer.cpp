@@ -36,8 +36,16 @@ void bind_deformer(py::module_& m) {
       .def_readonly("iterations", &SolveResult::iterations)
       .def_property_readonly("energies",
                              [](const SolveResult& r) { return py::array_t<double>(r.energies.size(), r.energies.data()); })
+      .def_property_readonly(
+          "residuals", [](const SolveResult& r) { return py::array_t<double>(r.residuals.size(), r.residuals.data()); },
+          "(iterations,) per iteration: largest vertex move of the plain step / rest bounding-box diagonal")
       .def_readonly("initial_energy", &SolveResult::initial_energy)
-      .def_readonly("converged", &SolveResult::converged)
+      .def_readonly("converged", &SolveResult::converged,
+                    "the estimated largest vertex distance to the fixed point is below tolerance * diagonal")
+      .def_readonly("distance_estimate", &SolveResult::distance_estimate,
+                    "estimated largest vertex distance of positions to the fixed point / diagonal (inf: unknown)")
+      .def_readonly("accelerated_steps", &SolveResult::accelerated_steps)
+      .def_readonly("rejected_steps", &SolveResult::rejected_steps)
       .def_readonly("warnings", &SolveResult::warnings)
       .def_readonly("factor_ms", &SolveResult::factor_ms)
       .def_readonly("local_ms", &SolveResult::local_ms)
@@ -48,6 +56,7 @@ void bind_deformer(py::module_& m) {
       .def("__repr__", [](const SolveResult& r) {
         return "<SolveResult iterations=" + std::to_string(r.iterations) +
                " converged=" + (r.converged ? "True" : "False") +
+               " residual=" + (r.residuals.empty() ? "-" : std::to_string(r.residuals.back())) +
                " energy=" + (r.energies.empty() ? "-" : std::to_string(r.energies.back())) + ">";
       });
 
@@ -84,11 +93,13 @@ void bind_deformer(py::module_& m) {
       .def(
           "solve",
           [](Deformer& d, const py::handle& targets, int max_iterations, double tolerance, bool warm_start,
-             const py::handle& initial) {
+             const py::handle& initial, const std::string& acceleration, int anderson_window) {
             SolveOptions o;
             o.max_iterations = max_iterations;
             o.tolerance = tolerance;
             o.warm_start = warm_start;
+            o.acceleration = parse_acceleration(acceleration);
+            o.anderson_window = anderson_window;
             if (!initial.is_none()) o.initial = to_points(initial, "initial");
             RowMatrixX3d t = to_points(targets, "targets");
             SignalCheck signals;
@@ -100,8 +111,12 @@ void bind_deformer(py::module_& m) {
               signals.raise_pending();
             }
           },
-          py::arg("targets"), py::arg("max_iterations") = 10, py::arg("tolerance") = 1e-4, py::arg("warm_start") = true,
-          py::arg("initial") = py::none())
+          py::arg("targets"), py::arg("max_iterations") = SolveOptions{}.max_iterations,
+          py::arg("tolerance") = SolveOptions{}.tolerance, py::arg("warm_start") = true, py::arg("initial") = py::none(),
+          py::arg("acceleration") = "anderson", py::arg("anderson_window") = SolveOptions{}.anderson_window,
+          "Local/global iterations until the estimated largest vertex distance to the fixed point is below\n"
+          "tolerance * rest bounding-box diagonal, or max_iterations. acceleration: \"anderson\" | \"none\".\n"
+          "A warm solve with unchanged targets continues the previous iteration (its Anderson history too).")
       .def(
           "energy",
           [](const Deformer& d, const py::handle& X) {

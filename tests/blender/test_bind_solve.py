@@ -37,7 +37,7 @@ def expected_targets(ob, ctrl, rest_matrix, X, handle):
     return transform(M, X[handle])
 
 
-def api_solve(X, F, handle, static, targets, lam, domain="edge", iterations=20, tol=1e-4):
+def api_solve(X, F, handle, static, targets, lam, domain="edge", iterations=20, tol=1e-3):
     d = ed.Deformer(X.astype(float), F, domain=domain)
     d.set_constraints(handles=handle, static=static, roi=None)
     d.set_stiffness(lam)

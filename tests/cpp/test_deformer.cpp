@@ -12,9 +12,9 @@ namespace {
 
 // The dinosaur with its lowest 20% static and its top 10% as the handle.
 struct LiftSetup {
-  test::TestMesh mesh = test::read_off("cgal_dino.off");
+  test::TestMesh mesh;
   std::vector<int> low, high;
-  LiftSetup() {
+  explicit LiftSetup(const char* file = "cgal_dino.off") : mesh(test::read_off(file)) {
     const Eigen::VectorXd z = mesh.V.col(2);
     const double zmin = z.minCoeff(), zmax = z.maxCoeff();
     for (int v = 0; v < z.size(); ++v) {
@@ -161,8 +161,11 @@ TEST(Deformer, InterruptStopsBetweenIterationsAndLeavesItUsable) {
   o.interrupt_requested = [&] { return ++asked == 3; };
   EXPECT_THROW(d.solve(targets, o), SolveInterrupted);
   EXPECT_EQ(asked, 3);
-  const SolveResult r = d.solve(targets, SolveOptions{});
-  EXPECT_EQ(r.iterations, SolveOptions{}.max_iterations);
+  SolveOptions ten;
+  ten.max_iterations = 10;
+  ten.tolerance = 0.0;
+  const SolveResult r = d.solve(targets, ten);
+  EXPECT_EQ(r.iterations, 10);
   EXPECT_EQ(s.rows(r.positions, s.high), targets);
   EXPECT_TRUE(r.positions.allFinite());
 }
@@ -182,4 +185,55 @@ TEST(Deformer, TargetsThatWouldOverflowAreRejectedBeforeAnyWork) {
   EXPECT_EQ(d.analyses(), 0);  // rejected before the factorization
   const RowMatrixX3d far = RowMatrixX3d::Constant(s.mesh.V.rows(), 3, 1e200);
   EXPECT_THROW(Deformer(far + s.mesh.V * 1e190, s.mesh.F, Domain::Edge), std::invalid_argument);
+}
+
+namespace {
+double max_vertex_distance(const RowMatrixX3d& A, const RowMatrixX3d& B) {
+  return (A - B).rowwise().norm().maxCoeff();
+}
+double bbox_diagonal(const RowMatrixX3d& V) { return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm(); }
+}  // namespace
+
+TEST(Deformer, ConvergedMeansWithinTheToleranceOfTheFixedPoint) {
+  LiftSetup s("cgal_three_peaks.off");  // small: the plain reference takes thousands of iterations
+  const double diag = bbox_diagonal(s.mesh.V);
+  RowMatrixX3d targets = s.rows(s.mesh.V, s.high);
+  targets.col(2).array() += 0.25 * diag;
+  for (Domain domain : {Domain::Edge, Domain::Primal}) {
+    Deformer d(s.mesh.V, s.mesh.F, domain);
+    d.set_constraints({s.high, s.low, std::nullopt});
+    d.set_stiffness(1.0);
+    SolveOptions plain;
+    plain.acceleration = Acceleration::None;
+    plain.tolerance = 0.0;
+    plain.max_iterations = 400;
+    plain.warm_start = false;
+    SolveResult ref = d.solve(targets, plain);
+    plain.warm_start = true;  // continue the same plain iteration
+    for (int chunk = 0; chunk < 100 && ref.residuals.back() >= 1e-10; ++chunk) ref = d.solve(targets, plain);
+    ASSERT_LT(ref.residuals.back(), 1e-10);
+
+    SolveOptions o;
+    o.warm_start = false;
+    const SolveResult r = d.solve(targets, o);
+    ASSERT_TRUE(r.converged);
+    EXPECT_EQ(r.residuals.size(), r.energies.size());
+    EXPECT_LE(max_vertex_distance(r.positions, ref.positions), 2 * o.tolerance * diag);
+    EXPECT_GT(r.accelerated_steps, 0);
+    for (size_t k = 1; k < r.energies.size(); ++k) EXPECT_LE(r.energies[k], r.energies[k - 1] * (1 + 1e-12));
+  }
+}
+
+TEST(Deformer, StoppingUnconvergedWarns) {
+  LiftSetup s;
+  Deformer d(s.mesh.V, s.mesh.F, Domain::Edge);
+  d.set_constraints({s.high, s.low, std::nullopt});
+  RowMatrixX3d targets = s.rows(s.mesh.V, s.high);
+  targets.col(2).array() += 0.5;
+  SolveOptions o;
+  o.max_iterations = 3;
+  const SolveResult r = d.solve(targets, o);
+  EXPECT_FALSE(r.converged);
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings.back().find("not converged"), std::string::npos);
 }

@@ -1,6 +1,7 @@
 """Energy behaviour of the iteration (DESIGN section 2 "Iteration"):
-lambda = 1 is ARAP block descent, so E never rises; lambda < 1 is the paper's fixed
-point, judged on the relative change, which must fall below 1e-4 in bounded time."""
+lambda = 1 is ARAP block descent, so E never rises (with or without Anderson acceleration,
+whose safeguard keeps it monotone); lambda < 1 is the paper's fixed point, which must come
+within 1e-3 diag of its fixed point (estimated, see docs/api.md) in bounded time."""
 
 import numpy as np
 import pytest
@@ -16,14 +17,15 @@ MODERATE = {"lift": lambda V: lift(V, amount=0.05),
 BUDGET = 400
 
 
+@pytest.mark.parametrize("acceleration", ["none", "anderson"])
 @pytest.mark.parametrize("edit", sorted(EDITS))
 @pytest.mark.parametrize("domain", ["edge", "primal"])
 @pytest.mark.parametrize("name", ALL)
-def test_lambda1_energy_never_increases(name, domain, edit):
+def test_lambda1_energy_never_increases(name, domain, edit, acceleration):
     V, F = load(name)
     handles, static, targets = EDITS[edit](V)
     d = deformer(V, F, domain, 1.0, handles, static)
-    r = d.solve(targets, max_iterations=25, tolerance=0.0)
+    r = d.solve(targets, max_iterations=25, tolerance=0.0, acceleration=acceleration)
     E = np.asarray(r.energies)
     assert len(E) == r.iterations
     # tolerance 0 stops early only where the energy no longer changes at all
@@ -36,29 +38,42 @@ def test_lambda1_energy_never_increases(name, domain, edit):
     # From a given start too: the first step cannot rise above the start's energy.
     X0 = np.asarray(r.positions) + 0.01 * diag(V) * np.random.default_rng(5).standard_normal(
         V.shape)
-    r2 = d.solve(targets, max_iterations=5, tolerance=0.0, initial=X0)
+    r2 = d.solve(targets, max_iterations=5, tolerance=0.0, initial=X0, acceleration=acceleration)
     E2 = np.asarray(r2.energies)
     assert r2.initial_energy is not None and E2[0] <= r2.initial_energy
     assert np.diff(E2).max() <= 1e-12 * r2.initial_energy
 
 
-@pytest.mark.parametrize("edit", sorted(MODERATE))
-@pytest.mark.parametrize("lam", [0.0, 0.5])
-@pytest.mark.parametrize("domain", ["edge", "primal"])
-@pytest.mark.parametrize("name", ALL)
+# Measured not to contract (the residual wanders around 1e-3 diag for 3000 iterations, plain
+# or accelerated): the primal graph at lambda = 0 on the dinosaur. Under the old stopping rule
+# (relative energy change) these "converged"; docs/benchmarks.md has the figures.
+NOT_CONTRACTING = {("cgal_dino.off", "primal", 0.0)}
+
+
+def _moderate_cases():
+    for name in ALL:
+        for domain in ("edge", "primal"):
+            for lam in (0.0, 0.5):
+                for edit in sorted(MODERATE):
+                    marks = ([pytest.mark.xfail(strict=True, reason="primal lambda 0 does not "
+                                                "contract on the dino")]
+                             if (name, domain, lam) in NOT_CONTRACTING else [])
+                    yield pytest.param(name, domain, lam, edit, marks=marks)
+
+
+@pytest.mark.parametrize("name,domain,lam,edit", list(_moderate_cases()))
 def test_lambda_below_1_converges_on_moderate_edit(name, domain, lam, edit):
     V, F = load(name)
     handles, static, targets = MODERATE[edit](V)
     d = deformer(V, F, domain, lam, handles, static)
-    r = d.solve(targets, max_iterations=BUDGET, tolerance=1e-4)
-    record(f"{edit} lam<1 to 1e-4", name, domain, lam,
+    r = d.solve(targets, max_iterations=BUDGET, tolerance=1e-3)
+    record(f"{edit} lam<1 to 1e-3 diag", name, domain, lam,
            r.iterations if r.converged else None,
            "moderate: lift 0.05 diag" if edit == "lift" else "moderate: bend 15deg")
     X = np.asarray(r.positions)
     assert np.all(np.isfinite(X))
     assert r.converged, f"not converged in {BUDGET} iterations"
-    E = np.asarray(r.energies)
-    if len(E) >= 2:   # the reported energies agree with the stopping rule
-        assert abs(E[-1] - E[-2]) <= 1e-4 * E[-1] + 1e-300
+    # the reported figures agree with the stopping rule
+    assert r.distance_estimate < 1e-3 and len(r.residuals) == len(r.energies) == r.iterations
     # the handles really moved the mesh
     assert np.abs(X - V).max() > 0.01 * diag(V)

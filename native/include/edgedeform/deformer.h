@@ -10,7 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "edgedeform/anderson.h"
 #include "edgedeform/constrained_system.h"
+#include "edgedeform/convergence.h"
 #include "edgedeform/edge_topology.h"
 #include "edgedeform/node_graph.h"
 #include "edgedeform/seams.h"
@@ -18,11 +20,20 @@
 
 namespace edgedeform {
 
+enum class Acceleration { None, Anderson };
+const char* acceleration_name(Acceleration a);
+// "none" | "anderson"; anything else throws std::invalid_argument.
+Acceleration parse_acceleration(const std::string& name);
+
 struct SolveOptions {
-  int max_iterations = 10;
-  double tolerance = 1e-4;
+  int max_iterations = 2000;
+  // Converged: the estimated largest vertex distance to the fixed point is below
+  // tolerance * (rest bounding-box diagonal). See convergence.h.
+  double tolerance = 1e-3;
   bool warm_start = true;
   std::optional<RowMatrixX3d> initial;  // start with a local step on these positions
+  Acceleration acceleration = Acceleration::Anderson;
+  int anderson_window = 5;
   // Asked once per iteration (called from the solving thread); returning true stops the
   // solve with SolveInterrupted. The Python bindings check for Ctrl-C here, so the core
   // needs no Python.
@@ -33,6 +44,11 @@ struct SolveResult {
   RowMatrixX3d positions;
   int iterations = 0;
   std::vector<double> energies;                 // after each iteration
+  // Per iteration: |G(y) - y|_inf / diag for the point y its global step started from
+  // (for the plain method |x_k - x_{k-1}|, the largest vertex move, over the rest diagonal).
+  std::vector<double> residuals;
+  double distance_estimate = 0.0;               // of the result to the fixed point, / diag
+  int accelerated_steps = 0, rejected_steps = 0;  // Anderson steps kept, and discarded
   std::optional<double> initial_energy;         // energy of `initial`, when given
   bool converged = false;
   std::vector<std::string> warnings;
@@ -83,6 +99,13 @@ class Deformer {
   // Stores the last fit per global node, before the terms change with the constraints.
   void keep_last_fit_per_node();
   RowMatrixX3d start_positions(const RowMatrixX3d& targets) const;
+  // The local/global loop of DESIGN §2 (with Anderson acceleration unless disabled).
+  void iterate(const SolveOptions& options, const Eigen::MatrixXd& c, RowMatrixX3d& x_local, LocalFit& fit,
+               SolveResult& result);
+  // One global step: G's image of the fit, written to g (free vertices).
+  void global_step(const LocalFit& fit, const Eigen::MatrixXd& c, Eigen::MatrixXd& g, SolveResult& result);
+  // One local step on free positions y (fixed rows of x_local already set).
+  void local_step(const Eigen::MatrixXd& y, RowMatrixX3d& x_local, LocalFit& fit, SolveResult& result);
 
   RowMatrixX3d rest_;
   RowMatrixX3i faces_;
@@ -109,6 +132,25 @@ class Deformer {
   Eigen::VectorXd node_scale_;
   std::vector<Eigen::Matrix3d> node_right_vectors_;  // starts the next SVD of each node
   bool has_previous_ = false;
+  // The iteration in progress, continued by a warm solve with the same targets (live editing
+  // that stands still settles to the cold solve's fixed point). Owned by solve(); stale after
+  // any change of system (ensure_factored) or of targets.
+  struct Iteration {
+    bool continuable = false;     // same system and fit(y) == last_fit_
+    bool positions_valid = false;  // y holds the free vertices of the current constraints
+    RowMatrixX3d targets;
+    Eigen::MatrixXd y;            // current iterate (free vertices)
+    Eigen::MatrixXd g, next;      // G(y); the next point
+    Eigen::MatrixXd base_step;    // plain step of the last accepted point (λ<1 fallback)
+    double energy = 0.0;          // E(y)
+    double best_residual = 0.0;   // smallest residual of a G pair since the targets were set
+    bool y_accelerated = false;   // y came from an Anderson step not yet judged
+    AndersonAccelerator anderson;
+    ConvergenceMonitor monitor;
+  } iter_;
+  double diag_ = 0.0;             // rest bounding-box diagonal
+  Eigen::MatrixXd rhs_;            // global-step scratch, reused by every iteration
+  RowMatrixX3d node_positions_;    // local-step scratch
   mutable std::unique_ptr<NodeStencil> full_stencil_;  // for energy(), built on first use
   // The bindings release the GIL: two Python threads sharing a Deformer take turns here.
   mutable std::mutex mutex_;

@@ -2,7 +2,7 @@
 
     python3 -m edgedeform deform MESH --constraints C.json --out OUT.obj
         [--domain edge|primal] [--stiffness 0.5 | --stiffness-file lam.txt]
-        [--iterations N] [--tolerance T] [--weld]
+        [--iterations N] [--tolerance T] [--acceleration anderson|none] [--weld]
 
 C.json: {"handles": [...], "static": [...], "roi": null or [...],
          "handle_targets": [[x, y, z], ...]}   (targets in the order of handles)
@@ -48,13 +48,18 @@ def _parser():
                      help="global stiffness in [0,1] (default 0.5)")
     lam.add_argument("--stiffness-file", default=None, metavar="FILE",
                      help="one stiffness value per vertex, whitespace separated")
-    d.add_argument("--iterations", type=int, default=10, metavar="N",
-                   help="maximum local/global iterations (default 10)")
+    d.add_argument("--iterations", type=int, default=2000, metavar="N",
+                   help="maximum local/global iterations (default 2000)")
+    d.add_argument("--tolerance", type=float, default=1e-3, metavar="T",
+                   help="stop when the estimated largest vertex distance to the fixed point is "
+                        "below T times the bounding-box diagonal (default 1e-3)")
+    d.add_argument("--acceleration", choices=("anderson", "none"), default="anderson",
+                   help="Anderson acceleration of the iteration (default) or the plain method")
+    d.add_argument("--anderson-window", type=int, default=5, metavar="M",
+                   help="Anderson history length (default 5)")
     d.add_argument("--weld", action="store_true",
                    help="solve with vertices that share a position welded (unwelded seams); "
                         "every copy gets the welded position")
-    d.add_argument("--tolerance", type=float, default=1e-4, metavar="T",
-                   help="relative energy change to stop at (default 1e-4)")
     return p
 
 
@@ -150,7 +155,8 @@ def deform(args):
     d.set_constraints(handles=handles, static=static, roi=roi)
     d.set_stiffness(lam)
     t0 = time.perf_counter()
-    r = d.solve(targets, max_iterations=args.iterations, tolerance=args.tolerance)
+    r = d.solve(targets, max_iterations=args.iterations, tolerance=args.tolerance,
+                acceleration=args.acceleration, anderson_window=args.anderson_window)
     wall_ms = (time.perf_counter() - t0) * 1e3
     X = np.asarray(r.positions)
     if not np.all(np.isfinite(X)):
@@ -167,7 +173,11 @@ def deform(args):
         "iterations": its,
         "ms_per_iteration": round(loop_ms / its, 3) if its else 0.0,
         "energies": [float(e) for e in r.energies],
+        "residuals": [float(e) for e in r.residuals],
         "converged": bool(r.converged),
+        "distance_estimate": (float(r.distance_estimate)
+                              if math.isfinite(r.distance_estimate) else None),
+        "acceleration": args.acceleration,
         "free_vertices": int(r.free_vertices),
         "wall_ms": round(wall_ms, 3),
         "warnings": list(r.warnings),
