@@ -119,6 +119,8 @@ void bind_deformer(py::module_& m) {
       .def_property_readonly("n_nodes", [](const Deformer& d) { return d.graph().n_nodes; })
       .def_property_readonly("domain", [](const Deformer& d) { return std::string(domain_name(d.domain())); })
       .def_property_readonly("analyses", &Deformer::analyses, "symbolic analyses so far (reuse check)")
+      .def_property_readonly("factor_nonzeros", &Deformer::factor_nonzeros,
+                             "entries of the Cholesky factor from the last analysis (0 before the first solve)")
       .def("edges", [](const Deformer& d) { return int_matrix(d.topology().edges); })
       .def("node_vertices",
            [](const Deformer& d) {

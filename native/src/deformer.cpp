@@ -131,16 +131,33 @@ void Deformer::set_stiffness(const Eigen::VectorXd& vertex_lambda) {
   vertex_lambda_ = vertex_lambda;
   if (node == node_lambda_) return;  // the same system: keep the factorization
   node_lambda_ = std::move(node);
-  assembled_.reset();
+  stiffness_changed_ = true;
 }
 
 void Deformer::ensure_factored(SolveResult& result) {
-  if (assembled_) return;
+  if (assembled_ && !stiffness_changed_) return;
   const auto start = Clock::now();
-  auto assembled = std::make_unique<AssembledSystem>(assemble_system(*system_, node_lambda_));
-  if (system_->n_free() > 0) cholesky_.factorize(assembled->A);  // throws FactorizationError
+  // Kept only once factored: after a failure the next call assembles anew.
+  std::unique_ptr<AssembledSystem> assembled = std::move(assembled_);
+  if (assembled)  // only lambda changed: new values in the same operators and pattern
+    update_stiffness(*assembled, *system_, node_lambda_);
+  else
+    assembled = std::make_unique<AssembledSystem>(assemble_system(*system_, node_lambda_));
+  if (system_->n_free() > 0) {
+    const std::vector<int> order = free_vertex_order(*system_, vertex_rank_);
+    cholesky_.factorize(assembled->A, order);  // throws FactorizationError
+    if (order.empty()) remember_order();
+  }
   assembled_ = std::move(assembled);
+  stiffness_changed_ = false;
   result.factor_ms = ms_since(start);
+}
+
+void Deformer::remember_order() {
+  const std::vector<int> order = cholesky_.order();
+  vertex_rank_.assign(static_cast<size_t>(n_vertices()), -1);
+  for (size_t k = 0; k < order.size(); ++k)
+    vertex_rank_[static_cast<size_t>(system_->free_vertices[static_cast<size_t>(order[k])])] = static_cast<int>(k);
 }
 
 SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& options) {

@@ -71,9 +71,13 @@ class Deformer {
   const Eigen::VectorXd& node_lambda() const { return node_lambda_; }
   const Eigen::VectorXd& vertex_lambda() const { return vertex_lambda_; }
   int analyses() const { return cholesky_.analyses(); }
+  int orderings() const { return cholesky_.orderings(); }
+  double factor_nonzeros() const { return cholesky_.factor_nonzeros(); }
 
  private:
   void ensure_factored(SolveResult& result);
+  // Keeps the elimination order CHOLMOD chose for the current free vertices.
+  void remember_order();
   // Rotations, scales and SVD frames the first global step starts from (see SolveOptions).
   LocalFit starting_fit(const SolveOptions& options);
   // Stores the last fit per global node, before the terms change with the constraints.
@@ -91,7 +95,11 @@ class Deformer {
   Eigen::VectorXd vertex_lambda_;
   Eigen::VectorXd node_lambda_;
   std::unique_ptr<ConstrainedSystem> system_;
-  std::unique_ptr<AssembledSystem> assembled_;  // null when stiffness or constraints changed
+  std::unique_ptr<AssembledSystem> assembled_;  // null when the constraints changed
+  bool stiffness_changed_ = false;              // assembled_ holds another lambda
+  // Elimination rank per vertex (-1: never free) from the last fill-reducing ordering;
+  // constraint sets freeing only ranked vertices reuse it (free_vertex_order).
+  std::vector<int> vertex_rank_;
   SparseCholesky cholesky_;
   // Warm start. The fit of the last result, per term of the current system (live editing
   // reuses it as it is), and per global node once the constraints change.
