@@ -82,7 +82,11 @@ void bind_deformer(py::module_& m) {
           "set_stiffness",
           [](Deformer& d, const py::handle& lam) {
             if (py::isinstance<py::float_>(lam) || py::isinstance<py::int_>(lam)) {
-              d.set_stiffness(lam.cast<double>());
+              const double value = lam.cast<double>();
+              // Without the GIL, like every call that waits for the Deformer's lock: a solve
+              // in another thread takes the GIL briefly to check for Ctrl-C.
+              py::gil_scoped_release release;
+              d.set_stiffness(value);
               return;
             }
             Eigen::VectorXd v = to_vector(lam, "stiffness");

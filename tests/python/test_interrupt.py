@@ -94,3 +94,35 @@ def test_cli_exits_130_and_writes_nothing(tmp_path):
     assert ended - sent < 5.0  # includes interpreter shutdown on a shared machine
     assert out_text == ""
     assert list(tmp_path.iterdir()) == [c], "no output and no temporary file left behind"
+
+
+THREADS = r"""
+import threading, time
+import edgedeform as ed
+from _meshes import DINO, lift, load
+V, F = load(DINO)
+handles, static, targets = lift(V, amount=0.6)
+d = ed.Deformer(V, F)
+d.set_constraints(handles=handles, static=static)
+d.set_stiffness(0.5)
+d.solve(targets, max_iterations=2)
+worker = threading.Thread(target=lambda: d.solve(targets, max_iterations=400, tolerance=0.0))
+worker.start()
+time.sleep(0.2)  # the worker is inside solve now (it lasts well over a second)
+for _ in range(20):  # calls that wait for the solve's lock, while it checks for signals
+    d.set_stiffness(0.3)
+    d.set_stiffness(0.5)
+worker.join()
+print("done", flush=True)
+"""
+
+
+def test_calls_from_other_threads_during_a_solve_do_not_deadlock():
+    """The signal check takes the GIL from the solving thread: every call that waits for the
+    Deformer's lock must have released it (a scalar set_stiffness once did not)."""
+    proc = _start([sys.executable, "-c", THREADS])
+    try:
+        out, err = proc.communicate(timeout=60)  # a deadlock hangs: the timeout fails the test
+    finally:
+        proc.kill()
+    assert proc.returncode == 0 and out.strip() == "done", err
