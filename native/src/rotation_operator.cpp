@@ -34,6 +34,15 @@ RotationOperator::RotationOperator(const SparseMatrixRowMajor& H) {
   }
 }
 
+RotationOperator::RotationOperator(std::vector<int> offsets, std::vector<int> term, std::vector<double> coef, int terms)
+    : offsets_(std::move(offsets)), term_(std::move(term)), coef_(std::move(coef)), lambda_(static_cast<size_t>(terms), 1.0) {
+  if (offsets_.empty() || offsets_.front() != 0 || static_cast<size_t>(offsets_.back()) != term_.size() ||
+      coef_.size() != 6 * term_.size())
+    throw std::invalid_argument("RotationOperator: offsets, terms and coefficients do not agree");
+  for (int t : term_)
+    if (t < 0 || t >= terms) throw std::out_of_range("RotationOperator: term " + std::to_string(t) + " out of range");
+}
+
 void RotationOperator::set_term_lambda(const Eigen::VectorXd& term_lambda) {
   if (term_lambda.size() != static_cast<Eigen::Index>(lambda_.size()))
     throw std::invalid_argument("term_lambda has " + std::to_string(term_lambda.size()) + " entries, expected " +
