@@ -8,7 +8,9 @@
 namespace edgedeform {
 
 namespace {
-// Threads only for at least this many rows. KROWS_TBD
+// Threads only for at least this many rows (about 0.4 ms of work at ~500 instructions a
+// row); the bound of the former OpenMP loop, not measured apart: the right-hand side is
+// under 10 % of an iteration.
 constexpr int kMinParallelRows = 4096;
 constexpr int kRowsPerChunk = 512;
 }  // namespace
