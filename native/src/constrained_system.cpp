@@ -208,32 +208,57 @@ std::vector<int> free_vertex_order(const ConstrainedSystem& sys, const std::vect
   return order;
 }
 
+RotationOperator rotation_operator(const ConstrainedSystem& sys) {
+  // H at lambda = 1 (h_R, the 1-form columns) and lambda = 0 (h_T, the Laplacian columns),
+  // block (v, t) = sum over t's arcs a of J1f(a,v) w_a e0_a, and J2f(t,v) delta0_t. Gathered
+  // term by term (a term touches a handful of vertices), then sorted into rows by counting.
+  const NodeStencil& st = sys.stencil;
+  const int T = st.n_terms, nf = sys.n_free();
+  const SparseMatrix J1fT = sys.J1f.transpose(), J2fT = sys.J2f.transpose();
+  std::vector<int> block_vertex, block_term;
+  std::vector<double> block_coef;  // 6 per block
+  std::vector<int> row_count(static_cast<size_t>(nf) + 1, 0);
+  for (int t = 0; t < T; ++t) {
+    const size_t first = block_vertex.size();
+    auto block = [&](int v) -> double* {  // this term's block of vertex v, made on first use
+      for (size_t b = first; b < block_vertex.size(); ++b)
+        if (block_vertex[b] == v) return &block_coef[6 * b];
+      block_vertex.push_back(v);
+      block_term.push_back(t);
+      block_coef.insert(block_coef.end(), 6, 0.0);
+      ++row_count[static_cast<size_t>(v) + 1];
+      return &block_coef[block_coef.size() - 6];
+    };
+    for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a) {
+      const double w = st.weight[static_cast<size_t>(a)];
+      if (w == 0.0) continue;
+      for (SparseMatrix::InnerIterator it(J1fT, a); it; ++it) {
+        double* h = block(static_cast<int>(it.row()));
+        for (int k = 0; k < 3; ++k) h[k] += w * it.value() * st.rest_edge(a, k);
+      }
+    }
+    for (SparseMatrix::InnerIterator it(J2fT, t); it; ++it) {
+      double* h = block(static_cast<int>(it.row()));
+      for (int k = 0; k < 3; ++k) h[3 + k] += it.value() * st.rest_laplacian(t, k);
+    }
+  }
+  // Rows in vertex order; within a row, terms ascend (blocks were made in term order).
+  for (int v = 0; v < nf; ++v) row_count[static_cast<size_t>(v) + 1] += row_count[static_cast<size_t>(v)];
+  std::vector<int> cursor(row_count.begin(), row_count.end() - 1), term(block_term.size());
+  std::vector<double> coef(block_coef.size());
+  for (size_t b = 0; b < block_vertex.size(); ++b) {
+    const auto slot = static_cast<size_t>(cursor[static_cast<size_t>(block_vertex[b])]++);
+    term[slot] = block_term[b];
+    std::copy_n(&block_coef[6 * b], 6, &coef[6 * slot]);
+  }
+  return RotationOperator(std::move(row_count), std::move(term), std::move(coef), T);
+}
+
 AssembledSystem assemble_system(const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
   AssembledSystem out;
   const NodeStencil& st = sys.stencil;
   const int T = st.n_terms, nf = sys.n_free();
-  // H at lambda = 1 (1-form columns) and lambda = 0 (Laplacian columns); the operator
-  // weighs them per term, so that a change of lambda keeps it. Column 6t+k carries
-  // R_t(d,k) through the 1-form term, column 6t+3+k carries s_t R_t(d,k) through the
-  // Laplacian term: a term's six columns are adjacent, so a row of the product reads Z in a
-  // few cache lines per term.
-  const SparseMatrix J1fT = sys.J1f.transpose(), J2fT = sys.J2f.transpose();
-  std::vector<Eigen::Triplet<double>> h;
-  h.reserve(static_cast<size_t>(3 * (J1fT.nonZeros() + J2fT.nonZeros())));
-  for (int t = 0; t < T; ++t) {
-    for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a) {
-      const double w = st.weight[static_cast<size_t>(a)];
-      if (w == 0.0) continue;
-      for (SparseMatrix::InnerIterator it(J1fT, a); it; ++it)
-        for (int k = 0; k < 3; ++k) h.emplace_back(static_cast<int>(it.row()), 6 * t + k, w * it.value() * st.rest_edge(a, k));
-    }
-    for (SparseMatrix::InnerIterator it(J2fT, t); it; ++it)
-      for (int k = 0; k < 3; ++k)
-        h.emplace_back(static_cast<int>(it.row()), 6 * t + 3 + k, it.value() * st.rest_laplacian(t, k));
-  }
-  SparseMatrixRowMajor H(nf, 6 * T);
-  H.setFromTriplets(h.begin(), h.end());
-  out.H = RotationOperator(H);
+  out.H = rotation_operator(sys);
   update_stiffness(out, sys, node_lambda);
   return out;
 }

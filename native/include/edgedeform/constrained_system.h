@@ -70,6 +70,9 @@ struct AssembledSystem {
 
 AssembledSystem assemble_system(const ConstrainedSystem& system, const Eigen::VectorXd& node_lambda);
 
+// The right-hand-side operator of `system` (lambda-free; every term's lambda is 1).
+RotationOperator rotation_operator(const ConstrainedSystem& system);
+
 // The same system at other stiffness: A, K_fixed and the operator's per-term lambda are
 // replaced; H's coefficients and the pattern of A (for lambda < 1 somewhere) stay.
 void update_stiffness(AssembledSystem& assembled, const ConstrainedSystem& system,

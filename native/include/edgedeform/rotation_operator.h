@@ -20,6 +20,9 @@ class RotationOperator {
   // (rows x 6 #terms; column 6t+k carries R_t(.,k), 6t+3+k carries s_t R_t(.,k)). Every
   // lambda_t starts at 1.
   explicit RotationOperator(const SparseMatrixRowMajor& H);
+  // From its blocks directly: row r's blocks are offsets[r] .. offsets[r+1), each with its
+  // term and six coefficients (h_R, h_T); `terms` = #terms.
+  RotationOperator(std::vector<int> offsets, std::vector<int> term, std::vector<double> coef, int terms);
 
   // lambda_t of every term (#terms); throws std::invalid_argument on a size mismatch.
   void set_term_lambda(const Eigen::VectorXd& term_lambda);
