@@ -35,32 +35,28 @@ import numpy as np  # noqa: E402
 
 import edge_deform  # noqa: E402
 import edgedeform as ed  # noqa: E402
-from edgedeform.mesh_io import read_mesh  # noqa: E402
-from edge_deform import engine  # noqa: E402
+from edgedeform.mesh_files import read_mesh  # noqa: E402
+from edge_deform import lifecycle  # noqa: E402
+from edits import SHARED_MESHES, diagonal, regions  # noqa: E402
 from machine import machine_info  # noqa: E402
 from md_section import replace_section  # noqa: E402
 
-MESHES = Path("/work/shared/meshes")
 SIZES = {"10k": "blub_fish.obj", "50k": "koala.obj"}
 DOMAINS = ("EDGE", "PRIMAL")
 
 
-def scene_for(name):
+def scene_for(meshes, name):
     for ob in list(bpy.data.objects):
         bpy.data.objects.remove(ob)
-    V, F = read_mesh(MESHES / name)
+    V, F = read_mesh(Path(meshes) / name)
     mesh = bpy.data.meshes.new(name)
     mesh.from_pydata(V.tolist(), [], F.tolist())
     ob = bpy.data.objects.new(name, mesh)
     bpy.context.scene.collection.objects.link(ob)
     bpy.context.view_layer.objects.active = ob
-    ext = np.ptp(V, axis=0)
-    ax = 2 if ext[2] > 0.01 * np.linalg.norm(ext) else int(np.argmax(ext))
-    h = V[:, ax]
-    ob.vertex_groups.new(name="H").add(np.flatnonzero(h >= np.quantile(h, 0.9)).tolist(),
-                                       1.0, 'REPLACE')
-    ob.vertex_groups.new(name="S").add(np.flatnonzero(h <= np.quantile(h, 0.2)).tolist(),
-                                       1.0, 'REPLACE')
+    handles, static, ax = regions(V)
+    ob.vertex_groups.new(name="H").add(handles.tolist(), 1.0, 'REPLACE')
+    ob.vertex_groups.new(name="S").add(static.tolist(), 1.0, 'REPLACE')
     empty = bpy.data.objects.new("C", None)
     bpy.context.scene.collection.objects.link(empty)
     bpy.context.view_layer.update()
@@ -70,25 +66,25 @@ def scene_for(name):
     s.static_group, s.stiffness = "S", 0.5
     s.iterations, s.tolerance = 1, 0.0      # exactly one iteration per update
     step = np.zeros(3)
-    step[ax] = 0.005 * float(np.linalg.norm(ext))   # a drag: small moves, 60 a second
+    step[ax] = 0.005 * diagonal(V)   # a drag: small moves, 60 a second
     return ob, empty, len(V), step
 
 
 def time_updates(ob, empty, step, updates):
-    """The live tool's update, timed in its parts (ms): same engine calls as `live`."""
-    inputs = engine.gather_inputs(ob)
-    binding = engine.ensure_binding(ob, inputs)
+    """The live tool's update, timed in its parts (ms): same lifecycle calls as `live`."""
+    bound = lifecycle.prepare(ob)
+    binding = bound.binding
     s = ob.edge_deform
     rows = []
     for k in range(updates + 3):          # the first three warm up caches and the solver
         empty.location = tuple(np.array(empty.location) + step)
         bpy.context.view_layer.update()   # the transform system has done this for us live
         t0 = time.perf_counter()
-        targets = engine.handle_targets(ob, binding, inputs)
+        targets = bound.targets()
         t1 = time.perf_counter()
-        r = engine.solve(binding, targets, s.iterations, s.tolerance, warm=True)
+        r = bound.solve(targets, s.iterations, s.tolerance, warm=True)
         t2 = time.perf_counter()
-        engine.write(ob, binding, r.positions)
+        bound.write(r.positions)
         t3 = time.perf_counter()
         bpy.context.view_layer.update()   # depsgraph: shape key -> evaluated mesh
         t4 = time.perf_counter()
@@ -103,6 +99,8 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--sizes", default="10k,50k")
     ap.add_argument("--updates", type=int, default=30)
+    ap.add_argument("--meshes", default=str(SHARED_MESHES),
+                    help="folder of the benchmark meshes (default: ../shared/meshes beside the checkout)")
     ap.add_argument("--markdown", action="store_true")
     ap.add_argument("--from-json", action="store_true",
                     help="only re-render the Markdown from bench/results/live_update.json")
@@ -120,7 +118,7 @@ def main():
     results = []
     for size in args.sizes.split(","):
         name = SIZES[size]
-        ob, empty, n, step = scene_for(name)
+        ob, empty, n, step = scene_for(args.meshes, name)
         for domain in DOMAINS:
             ob.edge_deform.domain = domain
             t0 = time.perf_counter()

@@ -8,6 +8,7 @@ packages=(
   python3-numpy python3-scipy python3-pytest python3-meshio
   libgtest-dev googletest
   blender xvfb xauth
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -41,7 +41,7 @@ cholmod = [line for line in ldd.splitlines() if "libcholmod" in line]
 assert cholmod and all("edgedeform.libs" in line for line in cholmod), ldd
 
 # A plane: the +x tenth lifted, the -x tenth static.
-V = run(python, "-c", "import edgedeform.mesh_io as m, json, sys; "
+V = run(python, "-c", "import edgedeform.mesh_files as m, json, sys; "
         "print(json.dumps(m.read_mesh(sys.argv[1])[0].tolist()))", mesh)
 V = json.loads(V.stdout)
 xs = [v[0] for v in V]
