@@ -65,7 +65,9 @@ def check_contents(zip_path):
     bl_info = re.search(r'"version": \((\d+), (\d+), (\d+)\)', init)
     versions = {manifest["version"], wheels[0].split("-")[1], ".".join(bl_info.groups())}
     assert len(versions) == 1, "manifest, wheel and bl_info versions differ: %s" % versions
-    assert manifest["platforms"] == ["linux-x64"] and "linux_x86_64" in wheels[0], manifest
+    assert manifest["platforms"] == ["linux-x64"] and wheels[0].endswith("_x86_64.whl"), manifest
+    # Self-contained: SuiteSparse and its BLAS travel in the wheel (auditwheel).
+    assert any("libcholmod" in n for n in wheel.namelist()), "CHOLMOD is not in the wheel"
     assert "permissions" not in manifest, "the add-on touches no files, network or devices"
 
 

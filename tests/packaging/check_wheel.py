@@ -34,6 +34,11 @@ def run(*cmd):
 site = run(python, "-c", "import edgedeform, os; print(os.path.realpath(edgedeform.__file__))")
 assert site.stdout.strip().startswith(os.path.realpath(venv)), site.stdout
 print("import edgedeform ->", site.stdout.strip())
+# Self-contained (auditwheel): the module loads CHOLMOD from the wheel, not from the system.
+core, = glob.glob(os.path.join(os.path.dirname(site.stdout.strip()), "_core*.so"))
+ldd = run("ldd", core).stdout
+cholmod = [line for line in ldd.splitlines() if "libcholmod" in line]
+assert cholmod and all("edgedeform.libs" in line for line in cholmod), ldd
 
 # A plane: the +x tenth lifted, the -x tenth static.
 V = run(python, "-c", "import edgedeform.mesh_files as m, json, sys; "
