@@ -8,7 +8,13 @@ the bounding-box diagonal. Height is the z coordinate, unless the mesh is flat i
 below is flat in z, so all of them are lifted along z.)
 
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_core.py [--sizes 1k,10k]
-        [--max-iterations 300] [--markdown docs/benchmarks.md]
+        [--max-iterations 300] [--busy] [--roi] [--markdown docs/benchmarks.md]
+
+Besides precompute and iterations, every row measures the incremental paths: a change of λ
+(numeric refactorization) and a handle group added and removed, each against a fresh
+Deformer, with the largest position difference between the two. --busy runs a busy loop
+in a second process for the whole run (one core kept busy); --roi measures a region of
+interest on the 140k mesh against a whole mesh of the same vertex count instead.
 
 Prints a table, merges its rows into bench/results/core.json (rows of other sizes are
 kept, so sizes can be run one at a time) and, with --markdown, rewrites its own section
@@ -18,6 +24,8 @@ of that file.
 import argparse
 import json
 import os
+import resource
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -27,18 +35,91 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from edits import SHARED_MESHES, lift_edit  # noqa: E402
+from edits import SHARED_MESHES, lift_edit, up_axis  # noqa: E402
 from machine import machine_info  # noqa: E402
 from md_section import replace_section  # noqa: E402
 
+MESHES = SHARED_MESHES  # --meshes replaces it
 SIZES = {  # read straight from the shared folder; the big ones are not copied
     "1k": "spot_low_resolution.obj",
     "10k": "blub_fish.obj",
     "50k": "koala.obj",
     "140k": "nefertiti_loop1.ply",
 }
+ROI_REFERENCE = "cgal_dino.off"  # 3,916 vertices: the whole mesh the region is compared with
 LAMBDAS = (0.0, 0.5, 1.0)
 DOMAINS = ("edge", "primal")
+
+
+def belt_group(V, ax):
+    """A new handle group: the 2 % band of vertices around 55 % of the height, pinned
+    where they are (a user pinning a waist)."""
+    h = V[:, ax]
+    lo, hi = np.quantile(h, [0.54, 0.56])
+    return np.flatnonzero((h >= lo) & (h <= hi))
+
+
+def timed_constraints(d, handles, static, roi=None):
+    """Wall ms of set_constraints plus the next solve's assembly and factorization."""
+    t0 = time.perf_counter()
+    d.set_constraints(handles=handles, static=static, roi=roi)
+    set_ms = (time.perf_counter() - t0) * 1e3
+    return set_ms
+
+
+def relative_difference(a, b):
+    return float(np.abs(a - b).max() / max(np.abs(b).max(), 1e-300))
+
+
+def run_changes(ed, V, F, edit, domain, lam, repeat):
+    """λ change and handle-group change, each against a fresh Deformer given the final
+    state directly. The fast path must reproduce the fresh positions (same 5 iterations,
+    cold start) to 1e-9 relative."""
+    handles, static, targets, ax = edit
+    belt = belt_group(V, ax)
+    belt = belt[~np.isin(belt, handles) & ~np.isin(belt, static)]
+    more = np.concatenate([handles, belt])
+    more_targets = np.vstack([targets, V[belt]])
+    lam2 = 0.25 if lam != 0.25 else 0.75
+    out = {"belt_vertices": int(len(belt))}
+    stiff, add, remove, fresh_add, fresh_remove = [], [], [], [], []
+    diff_stiff = diff_add = diff_remove = 0.0
+    for _ in range(repeat):
+        d = ed.Deformer(V, F, domain=domain)
+        d.set_constraints(handles=handles, static=static)
+        d.set_stiffness(lam)
+        d.solve(targets, max_iterations=1)
+        # λ change: the live slider
+        d.set_stiffness(lam2)
+        r = d.solve(targets, max_iterations=5, tolerance=0.0, warm_start=False)
+        stiff.append(float(r.factor_ms))
+        f = ed.Deformer(V, F, domain=domain)
+        f.set_constraints(handles=handles, static=static)
+        f.set_stiffness(lam2)
+        rf = f.solve(targets, max_iterations=5, tolerance=0.0, warm_start=False)
+        diff_stiff = max(diff_stiff, relative_difference(r.positions, rf.positions))
+        # a handle group added, then removed again
+        for group, tg, times, fresh_times, key in ((more, more_targets, add, fresh_add, "add"),
+                                                   (handles, targets, remove, fresh_remove, "remove")):
+            set_ms = timed_constraints(d, group, static)
+            r = d.solve(tg, max_iterations=5, tolerance=0.0, warm_start=False)
+            times.append(set_ms + float(r.factor_ms))
+            f = ed.Deformer(V, F, domain=domain)
+            f.set_stiffness(lam2)
+            set_ms = timed_constraints(f, group, static)
+            rf = f.solve(tg, max_iterations=5, tolerance=0.0, warm_start=False)
+            fresh_times.append(set_ms + float(rf.factor_ms))
+            diff = relative_difference(r.positions, rf.positions)
+            if key == "add":
+                diff_add = max(diff_add, diff)
+            else:
+                diff_remove = max(diff_remove, diff)
+    out.update({"stiffness_change_ms": min(stiff), "handle_add_ms": min(add),
+                "handle_remove_ms": min(remove), "fresh_factor_add_ms": min(fresh_add),
+                "fresh_factor_remove_ms": min(fresh_remove),
+                "stiffness_change_diff": diff_stiff, "handle_add_diff": diff_add,
+                "handle_remove_diff": diff_remove})
+    return out
 
 
 def run_one(ed, V, F, edit, domain, lam, max_iterations, tolerance, repeat):
@@ -94,23 +175,105 @@ def run_one(ed, V, F, edit, domain, lam, max_iterations, tolerance, repeat):
     d.set_stiffness(0.25 if lam != 0.25 else 0.75)
     r2 = d.solve(targets, max_iterations=1, tolerance=tolerance)
     row["refactor_ms"] = float(r2.factor_ms)
+    row.update(run_changes(ed, V, F, edit, domain, lam, repeat))
+    row["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     return row
 
 
+def grow_region(F, seed, count):
+    """`count` vertices around `seed`, by breadth-first growth over the mesh edges."""
+    n = int(F.max()) + 1
+    E = np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
+    E = np.vstack([E, E[:, ::-1]])
+    order = np.argsort(E[:, 0], kind="stable")
+    E = E[order]
+    starts = np.searchsorted(E[:, 0], np.arange(n + 1))
+    seen = np.zeros(n, bool)
+    seen[seed] = True
+    region, frontier = [seed], [seed]
+    while frontier and len(region) < count:
+        nxt = []
+        for v in frontier:
+            for u in E[starts[v]:starts[v + 1], 1]:
+                if not seen[u]:
+                    seen[u] = True
+                    nxt.append(int(u))
+        region.extend(nxt)
+        frontier = nxt
+    return np.array(region[:count])
+
+
+def roi_edit(V, region, ax):
+    """Inside the region: its top 10 % by height are handles, raised by a quarter of the
+    region's diagonal; the rest of the mesh is held by the region boundary."""
+    h = V[region, ax]
+    handles = region[h >= np.quantile(h, 0.9)]
+    targets = V[handles].copy()
+    targets[:, ax] += 0.25 * float(np.linalg.norm(np.ptp(V[region], axis=0)))
+    return handles, targets
+
+
+def run_roi(ed, repeat, domain="edge", lam=0.5):
+    """A region of interest of a whole small mesh's vertex count on the 140k mesh, against
+    that whole small mesh (lowest 20 % static as in the lift): precompute without the
+    Deformer construction (done once per mesh), and per iteration."""
+    from edgedeform.mesh_files import read_mesh
+    rows = []
+    Vs, Fs = read_mesh(f"{MESHES}/{ROI_REFERENCE}")
+    Vb, Fb = read_mesh(f"{MESHES}/{SIZES['140k']}")
+    ax = up_axis(Vb)
+    seed = int(np.argmax(Vb[:, ax]))
+    region = grow_region(Fb, seed, len(Vs))
+    hs, ss, ts, _ = lift_edit(Vs)
+    hb, tb = roi_edit(Vb, region, ax)
+    for name, V, F, handles, static, targets, roi in (
+            (ROI_REFERENCE, Vs, Fs, hs, ss, ts, None),
+            (SIZES["140k"] + " ROI", Vb, Fb, hb, np.array([], int), tb, region)):
+        t0 = time.perf_counter()
+        d = ed.Deformer(V, F, domain=domain)
+        construct_ms = (time.perf_counter() - t0) * 1e3
+        d.set_stiffness(lam)
+        pre, its = [], []
+        for _ in range(repeat):
+            set_ms = timed_constraints(d, handles, static, roi)
+            r = d.solve(targets, max_iterations=1)
+            pre.append(set_ms + float(r.factor_ms))
+            r = d.solve(targets, max_iterations=10, tolerance=0.0)
+            its.append((float(r.local_ms) + float(r.rhs_ms) + float(r.solve_ms)) / r.iterations)
+        rows.append({"mesh": name, "vertices": len(V), "region": len(region) if roi is not None else len(V),
+                     "free_vertices": int(r.free_vertices), "active_nodes": int(r.active_nodes),
+                     "construct_ms": construct_ms, "precompute_ms": min(pre),
+                     "ms_per_it": min(its), "domain": domain, "lambda": lam})
+        print(rows[-1], flush=True)
+    return rows
+
+
+def changes(r):
+    """The λ-change and handle-change cells (rows from older runs lack them)."""
+    if "stiffness_change_ms" not in r:
+        return f"{r['refactor_ms']:.0f} | –"
+    pct = lambda a, b: f"{100 * a / b:.0f} %"
+    return (f"{r['stiffness_change_ms']:.0f} ({pct(r['stiffness_change_ms'], r['precompute_ms'])}) "
+            f"| {r['handle_add_ms']:.0f} / {r['handle_remove_ms']:.0f} "
+            f"({pct(r['handle_add_ms'], r['fresh_factor_add_ms'])} / "
+            f"{pct(r['handle_remove_ms'], r['fresh_factor_remove_ms'])})")
+
+
 def table(rows):
-    head = ("| size | mesh | vertices | domain | λ | threads | nodes | precompute ms (CPU) | refactor ms "
-            "| local ms/it | rhs ms/it | solve ms/it | ms/it | CPU ms/it | iterations | load |")
+    head = ("| size | mesh | vertices | domain | λ | threads | busy | nodes | precompute ms (CPU) "
+            "| λ change ms (% pre) | handle add / remove ms (% fresh) "
+            "| local ms/it | rhs ms/it | solve ms/it | ms/it | CPU ms/it | iterations | peak MB | load |")
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for r in rows:
         its = f"{r['iterations']}" + ("" if r["converged"] else " (not conv.)")
         lines.append(
             f"| {r['size']} | {r['mesh']} | {r['vertices']:,} | {r['domain']} | {r['lambda']:g} "
-            f"| {r.get('threads', '?')} "
+            f"| {r.get('threads', '?')} | {'yes' if r.get('busy') else 'no'} "
             f"| {r['nodes']:,} | {r['precompute_ms']:.0f} ({r['precompute_cpu_ms']:.0f}) "
-            f"| {r['refactor_ms']:.0f} "
+            f"| {changes(r)} "
             f"| {r['local_ms_per_it']:.2f} | {r['rhs_ms_per_it']:.2f} "
             f"| {r['solve_ms_per_it']:.2f} | {r['ms_per_it']:.2f} | {r['cpu_ms_per_it']:.2f} "
-            f"| {its} | {r['load_1min']:.1f} |")
+            f"| {its} | {r.get('peak_rss_mb', float('nan')):.0f} | {r['load_1min']:.1f} |")
     return "\n".join(lines)
 
 
@@ -185,16 +348,21 @@ def main(argv=None):
     p.add_argument("--repeat", type=int, default=3, help="timings: best of this many runs")
     p.add_argument("--threads", type=int, default=None,
                    help="OpenMP threads (sets OMP_NUM_THREADS before the core loads)")
+    p.add_argument("--busy", action="store_true",
+                   help="keep one core busy with a second process during the run")
+    p.add_argument("--roi", action="store_true",
+                   help="only the region-of-interest comparison (results under 'roi')")
     p.add_argument("--meshes", default=str(SHARED_MESHES),
                    help="folder of the benchmark meshes (default: ../shared/meshes beside the checkout)")
     p.add_argument("--json", default=str(HERE / "results" / "core.json"))
     p.add_argument("--markdown", default=None, help="update this file's core section")
     args = p.parse_args(argv)
+    global MESHES
+    MESHES = Path(args.meshes)
 
     if args.threads:
         os.environ["OMP_NUM_THREADS"] = str(args.threads)
     import edgedeform as ed
-    from edgedeform.mesh_io import read_mesh
     threads = int(ed.build_info().get("threads", 0)) if args.threads is None else args.threads
 
     sizes = [s for s in args.sizes.split(",") if s]
@@ -210,29 +378,47 @@ def main(argv=None):
     cmd = "bench/bench_core.py " + " ".join(
         a for a in (argv or sys.argv[1:]) if a != "--markdown" and a != args.markdown)
     result["commands"] = [c for c in result.get("commands", []) if c != cmd] + [cmd]
+    busy = subprocess.Popen([sys.executable, "-c", "while True: pass"]) if args.busy else None
+    try:
+        if args.roi:
+            result["roi"] = run_roi(ed, args.repeat)
+            out.write_text(json.dumps(result, indent=1))
+        else:
+            measure_sizes(ed, args, sizes, threads, result, out)
+    finally:
+        if busy:
+            busy.kill()
+    print()
+    print(table(sorted(result["rows"], key=row_order)))
+    if args.markdown:
+        replace_section(args.markdown, "core-bench", markdown(result))
+        print(f"\nupdated {args.markdown}")
+
+
+def row_order(r):
+    return (-r.get("threads", 0), r.get("busy", False), list(SIZES).index(r["size"]),
+            DOMAINS.index(r["domain"]), r["lambda"])
+
+
+def measure_sizes(ed, args, sizes, threads, result, out):
+    from edgedeform.mesh_files import read_mesh
     for size in sizes:
-        V, F = read_mesh(Path(args.meshes) / SIZES[size])
+        V, F = read_mesh(f"{MESHES}/{SIZES[size]}")
         edit = lift_edit(V)
         for domain in args.domains.split(","):
             for lam in map(float, args.lambdas.split(",")):
                 row = run_one(ed, V, F, edit, domain, lam, args.max_iterations, args.tolerance,
                               args.repeat)
                 row.update({"size": size, "mesh": SIZES[size], "vertices": len(V),
-                            "faces": len(F), "up_axis": "xyz"[edit[3]], "threads": threads})
-                key = (size, domain, lam, threads)
+                            "faces": len(F), "up_axis": "xyz"[edit[3]], "threads": threads,
+                            "busy": args.busy})
+                key = (size, domain, lam, threads, args.busy)
                 result["rows"] = [r for r in result["rows"]
-                                  if (r["size"], r["domain"], r["lambda"], r.get("threads"))
-                                  != key] + [row]
+                                  if (r["size"], r["domain"], r["lambda"], r.get("threads"),
+                                      r.get("busy", False)) != key] + [row]
                 print(table([row]).splitlines()[-1], flush=True)
                 out.parent.mkdir(parents=True, exist_ok=True)
                 out.write_text(json.dumps(result, indent=1))   # keep partial results
-    print()
-    print(table(sorted(result["rows"], key=lambda r: (-r.get("threads", 0),
-                                                      list(SIZES).index(r["size"]),
-                                                      r["domain"], r["lambda"]))))
-    if args.markdown:
-        replace_section(args.markdown, "core-bench", markdown(result))
-        print(f"\nupdated {args.markdown}")
 
 
 if __name__ == "__main__":

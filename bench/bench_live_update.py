@@ -35,8 +35,8 @@ import numpy as np  # noqa: E402
 
 import edge_deform  # noqa: E402
 import edgedeform as ed  # noqa: E402
-from edgedeform.mesh_io import read_mesh  # noqa: E402
-from edge_deform import engine  # noqa: E402
+from edgedeform.mesh_files import read_mesh  # noqa: E402
+from edge_deform import lifecycle  # noqa: E402
 from edits import SHARED_MESHES, diagonal, regions  # noqa: E402
 from machine import machine_info  # noqa: E402
 from md_section import replace_section  # noqa: E402
@@ -71,20 +71,20 @@ def scene_for(meshes, name):
 
 
 def time_updates(ob, empty, step, updates):
-    """The live tool's update, timed in its parts (ms): same engine calls as `live`."""
-    inputs = engine.gather_inputs(ob)
-    binding = engine.ensure_binding(ob, inputs)
+    """The live tool's update, timed in its parts (ms): same lifecycle calls as `live`."""
+    bound = lifecycle.prepare(ob)
+    binding = bound.binding
     s = ob.edge_deform
     rows = []
     for k in range(updates + 3):          # the first three warm up caches and the solver
         empty.location = tuple(np.array(empty.location) + step)
         bpy.context.view_layer.update()   # the transform system has done this for us live
         t0 = time.perf_counter()
-        targets = engine.handle_targets(ob, binding, inputs)
+        targets = bound.targets()
         t1 = time.perf_counter()
-        r = engine.solve(binding, targets, s.iterations, s.tolerance, warm=True)
+        r = bound.solve(targets, s.iterations, s.tolerance, warm=True)
         t2 = time.perf_counter()
-        engine.write(ob, binding, r.positions)
+        bound.write(r.positions)
         t3 = time.perf_counter()
         bpy.context.view_layer.update()   # depsgraph: shape key -> evaluated mesh
         t4 = time.perf_counter()

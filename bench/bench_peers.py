@@ -217,7 +217,7 @@ def main(argv=None):
     args = p.parse_args(argv)
 
     import edgedeform as ed
-    from edgedeform.mesh_io import read_mesh
+    from edgedeform.mesh_files import read_mesh
 
     if args.mesh:
         meshes = [(Path(m).name, Path(m)) for m in args.mesh]

@@ -1,4 +1,4 @@
-"""Sample-scene geometry without Blender: meshes (read by edgedeform.mesh_io), region
+"""Sample-scene geometry without Blender: meshes (read by edgedeform.mesh_files), region
 selection, handle edits.
 
 Shared by make_samples.py (inside Blender) and the demo (inside or outside Blender), so the
@@ -76,7 +76,7 @@ def scene_mesh(scene):
     if src == "procedural:bar":
         V, F = make_bar()
     else:  # the package's reader: OBJ/OFF/PLY, file vertex order kept
-        from edgedeform.mesh_io import read_mesh
+        from edgedeform.mesh_files import read_mesh
         V, F = read_mesh(os.path.join(HERE, "meshes", src))
     return normalise(V, scene.get("up", "z")), F
 

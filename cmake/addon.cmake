@@ -5,7 +5,11 @@
 #                    Blender reports), enable the add-on and save the user preferences
 #   addon_zip        build/edge_deform-<ver>-<platform>-cp<py>.zip: Preferences > Add-ons >
 #                    Install (3.4+)
-#   addon_extension  build/edge_deform-<ver>-extension-<platform>.zip: Blender 4.2+ extension
+#   wheel            build/wheels/edgedeform-<ver>-cp<py>-<platform>.whl (scripts/build_wheel.sh:
+#                    scikit-build-core, as `pip install .`; its first run downloads the tool)
+#   addon_extension  build/edge_deform-<ver>-extension-<platform>.zip: Blender 4.2+ extension,
+#                    the add-on plus that wheel, listed in blender_manifest.toml (not in ALL:
+#                    the ctest fixture blender_extension_build makes it)
 #
 # The same file runs in script mode (cmake -P) to do the copying at build time, so the
 # targets see the environment (BLENDER_USER_SCRIPTS) of the build command, not of configure.
@@ -13,7 +17,8 @@
 # ------------------------------------------------------------------ script mode
 if(CMAKE_SCRIPT_MODE_FILE)
   function(ed_stage dest flat)
-    # flat: the add-on files at the root of `dest` (extension layout), else dest/edge_deform
+    # flat: the extension layout (add-on files at the root of `dest`, the edgedeform wheel in
+    # wheels/); else the legacy layout dest/edge_deform with the package folder copied in.
     if(flat)
       set(root ${dest})
     else()
@@ -23,11 +28,29 @@ if(CMAKE_SCRIPT_MODE_FILE)
     file(MAKE_DIRECTORY ${root})
     file(GLOB items ${ED_ADDON_SRC}/*)
     file(COPY ${items} DESTINATION ${root} PATTERN __pycache__ EXCLUDE PATTERN *.pyc EXCLUDE)
-    file(COPY ${ED_PKG_DIR} DESTINATION ${root} PATTERN __pycache__ EXCLUDE
-         PATTERN *.pyc EXCLUDE)
-    if(NOT flat)
+    if(flat)
+      ed_stage_wheel(${root})
+    else()
+      file(COPY ${ED_PKG_DIR} DESTINATION ${root} PATTERN __pycache__ EXCLUDE
+           PATTERN *.pyc EXCLUDE)
       file(REMOVE ${root}/blender_manifest.toml)   # 3.x installs read bl_info only
     endif()
+  endfunction()
+
+  function(ed_stage_wheel root)
+    # The manifest names the wheel it ships (and its platform): it must be the one just built.
+    file(GLOB wheels ${ED_WHEEL_DIR}/edgedeform-*.whl)
+    list(LENGTH wheels n)
+    if(NOT n EQUAL 1)
+      message(FATAL_ERROR "Expected one wheel in ${ED_WHEEL_DIR}, found: ${wheels}")
+    endif()
+    get_filename_component(wheel ${wheels} NAME)
+    file(READ ${root}/blender_manifest.toml manifest)
+    if(NOT manifest MATCHES "\"./wheels/${wheel}\"")
+      message(FATAL_ERROR "addon/edge_deform/blender_manifest.toml does not list the wheel "
+        "built here, ./wheels/${wheel}: update its `wheels` (and `platforms`) entries")
+    endif()
+    file(COPY ${wheels} DESTINATION ${root}/wheels)
   endfunction()
 
   function(ed_blender_query expr var)
@@ -38,6 +61,13 @@ if(CMAKE_SCRIPT_MODE_FILE)
     endif()
     set(${var} "${CMAKE_MATCH_1}" PARENT_SCOPE)
   endfunction()
+
+  # A Blender that uses the system's Python (Debian's) finds that Python's home through
+  # PATH: with pyenv or conda first on PATH it loads their standard library and cannot
+  # import numpy. Put the folder of the Python the module was built for first.
+  if(ED_PYTHON_DIR)
+    set(ENV{PATH} "${ED_PYTHON_DIR}:$ENV{PATH}")
+  endif()
 
   if(ED_ACTION STREQUAL "stage")
     ed_stage(${ED_DEST} ${ED_FLAT})
@@ -96,6 +126,7 @@ if(ED_PLATFORM STREQUAL "linux-x86_64")
   set(ED_EXT_PLATFORM linux-x64)
 endif()
 
+get_filename_component(_ed_python_dir ${Python_EXECUTABLE} DIRECTORY)
 find_program(BLENDER_EXECUTABLE blender)
 if(BLENDER_EXECUTABLE AND NOT EDGEDEFORM_BLENDER_PYTHON)
   execute_process(
@@ -127,7 +158,8 @@ else()
   add_custom_target(install_addon
     COMMAND ${CMAKE_COMMAND} -DED_ACTION=install -DED_ADDON_SRC=${ED_ADDON_SRC}
             -DED_PKG_DIR=${ED_PKG_DIR} -DED_BLENDER=${BLENDER_EXECUTABLE}
-            -DED_MODULE_PY=${ED_MODULE_PY} -P ${CMAKE_CURRENT_LIST_FILE}
+            -DED_MODULE_PY=${ED_MODULE_PY} -DED_PYTHON_DIR=${_ed_python_dir}
+            -P ${CMAKE_CURRENT_LIST_FILE}
     DEPENDS edgedeform_python
     COMMENT "Installing the Edge Deform add-on into Blender's user add-on folder"
     USES_TERMINAL)
@@ -153,14 +185,19 @@ add_custom_target(addon_zip ALL
   BYPRODUCTS ${ED_ZIP}
   COMMENT "Add-on zip (Preferences > Add-ons > Install): ${ED_ZIP}")
 
-add_custom_target(addon_extension ALL
+add_custom_target(wheel
+  COMMAND ${CMAKE_SOURCE_DIR}/scripts/build_wheel.sh ${CMAKE_BINARY_DIR}
+  COMMENT "edgedeform wheel (scikit-build-core) -> ${CMAKE_BINARY_DIR}/wheels"
+  USES_TERMINAL)
+
+add_custom_target(addon_extension
   COMMAND ${CMAKE_COMMAND} -DED_ACTION=stage -DED_ADDON_SRC=${ED_ADDON_SRC}
-          -DED_PKG_DIR=${ED_PKG_DIR} -DED_DEST=${_ed_stage}/extension -DED_FLAT=TRUE
-          -P ${CMAKE_CURRENT_LIST_FILE}
+          -DED_WHEEL_DIR=${CMAKE_BINARY_DIR}/wheels -DED_DEST=${_ed_stage}/extension
+          -DED_FLAT=TRUE -P ${CMAKE_CURRENT_LIST_FILE}
   COMMAND ${CMAKE_COMMAND} -E rm -f ${ED_EXT_ZIP}
   COMMAND ${CMAKE_COMMAND} -E tar cf ${ED_EXT_ZIP} --format=zip .
   WORKING_DIRECTORY ${_ed_stage}/extension
-  DEPENDS edgedeform_python ${_ed_sources}
+  DEPENDS ${_ed_sources}
   BYPRODUCTS ${ED_EXT_ZIP}
   COMMENT "Blender 4.2+ extension zip: ${ED_EXT_ZIP}")
-add_dependencies(addon_extension addon_zip)   # one stage writer at a time
+add_dependencies(addon_extension wheel)

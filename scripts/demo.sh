@@ -18,12 +18,10 @@ step "2/5 build ($build)"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release
 cmake --build "$build" -j"$jobs"
 
-step "3/5 Blender add-on"
-if cmake --build "$build" --target help | grep -q install_addon; then
-  cmake --build "$build" --target install_addon
-else   # a checkout without the add-on's CMake yet: the demo registers addon/ from source
-  echo "demo.sh: no install_addon target in this build; using the add-on from addon/"
-fi
+step "3/5 Blender add-on (installed and enabled in your Blender)"
+# No `--target help | grep -q` test here: under pipefail grep's early exit broke the pipe,
+# the test failed and the demo silently skipped the install.
+bash scripts/install_addon.sh "$build"
 
 step "4/5 sample scenes (blend_samples/*.blend)"
 # Blender prints harmless EGL warnings without a display: keep the log readable. Old scenes

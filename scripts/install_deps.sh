@@ -4,10 +4,11 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
-  libeigen3-dev libsuitesparse-dev libopenblas-dev pybind11-dev python3-dev
+  libeigen3-dev libsuitesparse-dev libopenblas-dev pybind11-dev python3-dev python3-venv
   python3-numpy python3-scipy python3-pytest python3-meshio
   libgtest-dev googletest
   blender xvfb xauth
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -4,6 +4,10 @@
 # Extra arguments go to ctest (e.g. -R pytest, -L blender).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Debian's tools first: Debian's Blender finds its Python's home through PATH, so a pyenv or
+# conda python3 (or a pip-installed cmake/ctest wrapper that puts one first) breaks every
+# Blender 3.4 test with "No module named numpy".
+export PATH="/usr/bin:/bin:$PATH"
 scripts/install_deps.sh
 build_dir=${EDGEDEFORM_BUILD_DIR:-build}
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release

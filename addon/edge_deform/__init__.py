@@ -16,6 +16,10 @@ import bpy
 from . import (cache_handlers, operators_bake, operators_bind, operators_grab, operators_groups,
                operators_live, properties, session, ui)
 
+# Where things are: lifecycle.py owns the rest shape, the output and their invalidation;
+# engine.py turns settings into solver inputs; mesh_arrays.py moves bpy data to NumPy;
+# session.py is the in-memory solver cache; operators_*.py talk to the user.
+
 _register, _unregister = bpy.utils.register_classes_factory(
     properties.CLASSES + operators_groups.CLASSES + operators_bind.CLASSES
     + operators_live.CLASSES + operators_grab.CLASSES + operators_bake.CLASSES

@@ -1,8 +1,9 @@
-"""Keep the session cache honest across file loads and undo.
+"""Keep the session cache honest across file loads and undo, and tell running tools.
 
 Undo and file loads replace mesh datablocks, so cached bindings may point at freed meshes
 (whose addresses Blender may reuse). Every cache hit is re-checked anyway (topology and rest
-shape), this only frees memory early and never lets a stale entry linger.
+shape, lifecycle.py); this frees memory early, and counts undo/redo steps so that a modal
+tool notices that the data it holds were replaced and ends cleanly.
 """
 
 import bpy
@@ -10,14 +11,23 @@ from bpy.app.handlers import persistent
 
 from . import session
 
+_generation = [0]
+
+
+def generation():
+    """Changes after every undo, redo and file load."""
+    return _generation[0]
+
 
 @persistent
 def _on_load(*_args):
+    _generation[0] += 1
     session.clear()
 
 
 @persistent
 def _on_undo(*_args):
+    _generation[0] += 1
     session.prune({mesh.as_pointer() for mesh in bpy.data.meshes})
 
 

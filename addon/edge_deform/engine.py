@@ -1,18 +1,16 @@
-"""Turn the object's settings into solver inputs, keep the Binding fresh, solve, write.
+"""Turn the object's settings into solver inputs and controller targets; solve; describe.
 
-Operators, the modal tools and the frame handler all go through here, so that every entry
-point computes the same deformation from the same settings. bpy data is read and written
-only through mesh_io; this module handles matrices and index arrays.
+Pure reading and arithmetic: nothing here writes bpy data (lifecycle.py owns the rest
+shape and the output). bpy data is read only through mesh_arrays.
 """
 
-import time
 from dataclasses import dataclass, field
 from typing import List, Optional
 
 import bpy
 import numpy as np
 
-from . import mesh_io, native, session
+from . import mesh_arrays
 
 
 class EdgeDeformError(Exception):
@@ -52,14 +50,14 @@ def gather_inputs(ob, require_handles=True):
         if not h.vertex_group:
             raise EdgeDeformError("A handle has no vertex group")
         names.append(h.vertex_group)
-    for label, name in (("static", s.static_group), ("region", s.roi_group),
-                        ("stiffness", s.stiffness_group)):
+    for name in (s.static_group, s.roi_group, s.stiffness_group):
         if name:
             names.append(name)
     for name in names:
         if name not in ob.vertex_groups:
-            raise EdgeDeformError("Vertex group '%s' does not exist" % name)
-    weights = mesh_io.read_group_weights(ob, names)
+            raise EdgeDeformError("Vertex group '%s' does not exist (deleted or renamed?): "
+                                  "pick a group in the Edge Deform panel" % name)
+    weights = mesh_arrays.read_group_weights(ob, names)
 
     groups, seen = [], np.zeros(len(ob.data.vertices), np.int32)
     for h in s.handles:
@@ -105,92 +103,50 @@ def with_global_changes(inputs, ob):
                   inputs.roi, lam)
 
 
-def _rest_positions(mesh, digest):
-    """The rest shape: kept in the mesh when output went to the base mesh, else the base."""
-    X = mesh_io.read_rest(mesh, digest)
-    if X is not None:
-        return X
-    if mesh_io.has_rest(mesh):
-        raise EdgeDeformError(
-            "The mesh topology changed after binding and the base mesh holds the deformed "
-            "shape: press Bind to make the current mesh the rest shape")
-    return mesh_io.read_positions(mesh)
-
-
-def ensure_binding(ob, inputs, fresh=False, check=True):
-    """The up-to-date Binding of `ob` for `inputs` (built or rebuilt when needed).
-
-    fresh: forget the stored rest shape and cached state (the Bind operator).
-    check: compare the full topology digest and rest shape (skipped inside a modal tool,
-    where the mesh cannot change under us; the counts are still compared).
-    """
-    ed = native.get()
-    mesh = ob.data
-    pointer = mesh.as_pointer()
-    counts = mesh_io.topology_counts(mesh)
-    binding = session.get(pointer)
-    if fresh:
-        mesh_io.clear_rest(mesh)
-        binding = None
-    if binding is not None and binding.counts != counts:
-        binding = None
-    if binding is None or check:
-        digest = mesh_io.topology_digest(mesh)
-        if binding is not None and binding.digest != digest:
-            binding = None
-        X = _rest_positions(mesh, digest)
-        if binding is None or binding.rest_key != session.rest_key(X):
-            t0 = time.perf_counter()
-            F = mesh_io.read_triangles(mesh)
-            if F.shape[0] == 0:
-                raise EdgeDeformError("The mesh has no faces")
-            binding = session.Binding(pointer, counts, digest, X, F)
-            binding.sync(ed, inputs)
-            binding.bind_ms = (time.perf_counter() - t0) * 1e3
-            session.put(binding)
-            return binding
-    binding.sync(ed, inputs)
-    return binding
+def controller_rest(ob, controller):
+    """A controller's transform in the deformed object's space: what `rest_matrix` holds."""
+    return ob.matrix_world.inverted_safe() @ controller.matrix_world
 
 
 def record_rest_transforms(ob):
-    """The controllers' current transforms become their rest (Add Handle, Bind, Apply)."""
+    """The controllers' current transforms become their rest (Bind, Apply)."""
     for h in ob.edge_deform.handles:
         if h.controller is not None:
-            h.rest_matrix = h.controller.matrix_world.copy()
+            h.rest_matrix = controller_rest(ob, h.controller)
 
 
-def handle_targets(ob, binding, inputs):
+def missing_controllers(inputs):
+    """Warnings for handles without a controller (e.g. the controller was deleted)."""
+    return ["Handle '%s' has no controller (deleted?): it stays at its rest position"
+            % g.group for g in inputs.handle_groups if g.controller is None]
+
+
+def handle_targets(ob, X, inputs):
     """Targets (len(handles),3) in object space, in the order of inputs.handles.
 
+    Controllers are read in the deformed object's space: a handle moves by the change of
+    its controller's transform relative to the object since the rest (like a Hook), so
+    moving the object together with controllers parented to it deforms nothing.
     4x4 products in mathutils and the per-vertex product with einsum: no BLAS/LAPACK
     call here, whose thread pool would fight the solver's OpenMP threads every update.
     """
-    obmw = ob.matrix_world
-    obmw_inv = obmw.inverted()
+    obmw_inv = ob.matrix_world.inverted_safe()
     out = []
     for g in inputs.handle_groups:
-        P = binding.X[g.indices]
+        P = X[g.indices]
         if g.controller is not None:
-            A = np.array(obmw_inv @ g.controller.matrix_world @ g.rest_inverse @ obmw)
+            A = np.array(obmw_inv @ g.controller.matrix_world @ g.rest_inverse)
             P = np.einsum("ij,kj->ik", P, A[:3, :3]) + A[:3, 3]
         out.append(P)
     return np.concatenate(out, axis=0)
 
 
-def controller_state(inputs):
-    """A cheap fingerprint of the controllers' transforms, to skip unchanged updates."""
-    return tuple(tuple(map(tuple, g.controller.matrix_world)) if g.controller else None
-                 for g in inputs.handle_groups)
-
-
-def solve(binding, targets, iterations, tolerance, warm=True):
-    """One solve; warm-starts from the previous result of this binding when allowed."""
-    warm = bool(warm and binding.last is not None)
-    result = binding.deformer.solve(targets, max_iterations=int(iterations),
-                                    tolerance=float(tolerance), warm_start=warm)
-    binding.last = result
-    return result
+def controller_state(ob, inputs):
+    """A cheap fingerprint of the object's and controllers' transforms, to skip unchanged
+    updates."""
+    return (tuple(map(tuple, ob.matrix_world)),) + tuple(
+        tuple(map(tuple, g.controller.matrix_world)) if g.controller else None
+        for g in inputs.handle_groups)
 
 
 class IterationBudget:
@@ -211,35 +167,15 @@ class IterationBudget:
         self.ms_per_iteration = elapsed_ms / max(1, result.iterations)
 
 
-def write(ob, binding, positions):
-    s = ob.edge_deform
-    if s.output == 'MESH' and not mesh_io.has_rest(ob.data):
-        # The base mesh is about to hold the deformation: keep the rest shape beside it.
-        mesh_io.store_rest(ob.data, binding.X, binding.digest)
-    mesh_io.write_output(ob, s.output, s.shape_key_name, positions)
-
-
-def deform(ob, warm=True, fresh=False, reuse_inputs=False):
-    """Gather, bind, solve from the controllers, write. Returns (binding, result).
-
-    reuse_inputs: take the groups read at the last sync (animation playback, where groups
-    cannot be edited) instead of reading them again; falls back to reading when the mesh
-    has no current binding.
-    """
-    s = ob.edge_deform
-    binding = session.get(ob.data.as_pointer())
-    if (reuse_inputs and binding is not None and binding.inputs is not None
-            and binding.counts == mesh_io.topology_counts(ob.data)
-            and binding.constraint_key != "temporary"):
-        inputs = with_global_changes(binding.inputs, ob)
-        binding = ensure_binding(ob, inputs, check=False)
-    else:
-        inputs = gather_inputs(ob)
-        binding = ensure_binding(ob, inputs, fresh=fresh)
-    result = solve(binding, handle_targets(ob, binding, inputs), s.iterations, s.tolerance,
-                   warm=warm)
-    write(ob, binding, result.positions)
-    return binding, result
+def status(result, elapsed_ms=None):
+    """The one place where a solve result becomes words for the user: (level, text) lines
+    for reports and headers, and whether the tools may stop iterating."""
+    text = "%d iterations%s" % (result.iterations,
+                                "" if result.converged else " (not converged)")
+    if elapsed_ms is not None:
+        text += ", %.1f ms" % elapsed_ms
+    lines = [('WARNING', w) for w in result.warnings]
+    return lines, text, bool(result.converged)
 
 
 # Exceptions an operator turns into a report; the package's FactorizationError is a

@@ -1,8 +1,9 @@
 """Find the compiled `edgedeform` package.
 
-An installed add-on carries its own copy (``edge_deform/edgedeform/``, copied by the
-``install_addon`` target); a development checkout falls back to a top-level
-``import edgedeform`` (tests put ``build/python`` on ``sys.path``). Imported lazily so that
+The legacy add-on (Blender 3.x, ``install_addon`` target, add-on zip) carries its own copy
+in ``edge_deform/edgedeform/``. Everywhere else it is a top-level ``import edgedeform``:
+the 4.2+ extension installs its wheel into Blender's extension site-packages, and a
+development checkout puts ``build/python`` on ``sys.path``. Imported lazily so that
 the add-on still registers and can report a clear error when the module is missing.
 """
 
@@ -32,5 +33,6 @@ def get():
         errors.append("top-level module: %s" % exc)
     raise ImportError(
         "Edge Deform: the native package 'edgedeform' could not be loaded (%s). "
-        "Reinstall with 'cmake --build <build> --target install_addon' for this Blender's "
+        "Reinstall: on Blender 4.2+ the extension zip (its wheel is for Python 3.11, Linux "
+        "x86_64), on 3.x 'cmake --build <build> --target install_addon' for this Blender's "
         "Python." % "; ".join(errors))

@@ -1,8 +1,12 @@
-"""Small helpers shared by the operators: polls and Edit-Mode round trips."""
+"""Small helpers shared by the operators: polls, error reports and Edit-Mode round trips."""
 
 import contextlib
+import functools
+import traceback
 
 import bpy
+
+from . import compat, engine
 
 
 def poll_mesh(cls, context, modes=None, need_handles=False):
@@ -23,14 +27,128 @@ def poll_mesh(cls, context, modes=None, need_handles=False):
     return True
 
 
+def error_text(exc):
+    """The message an artist sees for an exception (a bug still says what it was)."""
+    if isinstance(exc, engine.USER_ERRORS):
+        return "Edge Deform: %s" % exc
+    # Not a user error: keep the details on the console, never a raw traceback.
+    print("Edge Deform internal error:", "".join(
+        traceback.format_exception_only(type(exc), exc)).strip())
+    return "Edge Deform: internal error (%s: %s); please report it" % (
+        type(exc).__name__, exc)
+
+
+# Callables (level, text) told of every message the add-on gives (the tests listen here).
+listeners = []
+
+
+def tell(op, level, text):
+    """Every message to the user goes through here: the status bar via op.report."""
+    for listen in listeners:
+        listen(level, text)
+    op.report({level}, text)
+
+
+def _reported(op, call):
+    try:
+        return call()
+    except Exception as exc:  # noqa: BLE001 - reported, never re-raised
+        tell(op, 'ERROR', error_text(exc))
+        return {'CANCELLED'}
+
+
+def guarded(method):
+    """Wrap an operator's execute(self, context) or invoke(self, context, event): no
+    exception escapes, the user gets a report. (Blender checks the argument count, so
+    each form gets a wrapper of its own shape.)"""
+    if method.__code__.co_argcount == 3:
+        @functools.wraps(method)
+        def invoke(self, context, event):
+            return _reported(self, lambda: method(self, context, event))
+        return invoke
+
+    @functools.wraps(method)
+    def execute(self, context):
+        return _reported(self, lambda: method(self, context))
+    return execute
+
+
+def report_lines(op, lines):
+    for level, text in lines:
+        tell(op, level, text)
+
+
 @contextlib.contextmanager
 def object_mode(ob):
     """Temporarily leave Edit Mode: VertexGroup.add/remove and foreach_set need it."""
     previous = ob.mode
     if previous != 'OBJECT':
-        bpy.ops.object.mode_set(mode='OBJECT')
+        compat.mode_set(ob, 'OBJECT')
     try:
         yield
     finally:
         if previous != 'OBJECT' and ob.mode != previous:
-            bpy.ops.object.mode_set(mode=previous)
+            compat.mode_set(ob, previous)
+
+
+class ModalTool:
+    """What Live and Grab share: a timer, the header, the snapshot for a bit-exact cancel,
+    and noticing that undo or a deletion replaced the data they hold (then they end
+    cleanly instead of touching a removed object)."""
+
+    def start_modal(self, context, ob):
+        from . import cache_handlers, lifecycle
+        self.ob = ob
+        self.snapshot = lifecycle.Snapshot(ob)
+        self.generation = cache_handlers.generation()
+        self.area = context.area
+        wm = context.window_manager
+        self.timer = wm.event_timer_add(1.0 / 60.0, window=context.window)
+        wm.modal_handler_add(self)
+
+    def lost(self):
+        """None while the tool's object is usable, else why not (for the report)."""
+        from . import cache_handlers
+        if cache_handlers.generation() != self.generation:
+            return "Undo (or a file load) replaced the scene data"
+        try:
+            name = self.ob.name_full
+        except ReferenceError:
+            return "the object was deleted"
+        if bpy.data.objects.get(name) != self.ob:
+            return "the object was deleted"
+        return None
+
+    def header(self, text):
+        try:
+            if self.area is not None:
+                self.area.header_text_set(text)
+        except ReferenceError:
+            pass
+
+    def end_modal(self, context):
+        try:
+            context.window_manager.event_timer_remove(self.timer)
+        except (ReferenceError, ValueError):
+            pass
+        self.header(None)
+
+    def restore(self, context):
+        """Esc: the mesh back bit-exact (leaving Edit Mode first if the user entered it).
+        After an undo the scene is Blender's restored step: nothing is written then.
+        Returns a message when nothing could be restored, else None."""
+        from . import cache_handlers
+        if cache_handlers.generation() != self.generation:
+            self.snapshot.discard()
+            return "Undo restored an earlier state; it is kept"
+        ob = None if self.lost() else self.ob
+        if ob is not None and ob.mode != 'OBJECT':
+            with context.temp_override(object=ob, active_object=ob):
+                compat.mode_set(ob, 'OBJECT')
+        try:
+            self.snapshot.restore(ob)
+        except ReferenceError:
+            return "the mesh was removed; nothing to restore"
+        finally:
+            self.snapshot.discard()
+        return None

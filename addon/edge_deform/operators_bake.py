@@ -6,10 +6,15 @@ import bpy
 from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, IntProperty
 
-from . import engine, mesh_io
-from .op_common import poll_mesh
+from . import engine, lifecycle
+from .op_common import error_text, guarded, poll_mesh, tell
 
 _state = {"baking": False, "errors": {}}
+
+
+def frame_problem(ob):
+    """The last error of the frame handler for `ob` (shown in the panel), or None."""
+    return _state["errors"].get(ob.name_full)
 
 
 @persistent
@@ -29,16 +34,15 @@ def on_frame_change(scene, depsgraph=None):
                 or ob.mode != 'OBJECT':
             continue
         try:
-            engine.deform(ob, warm=True, reuse_inputs=playing)
+            bound, _ = lifecycle.deform(ob, warm=True, reuse_inputs=playing)
+            problem = "; ".join(bound.warnings()) or None
+        except Exception as exc:  # noqa: BLE001 - a handler must never raise
+            problem = error_text(exc)
+        if problem is None:
             _state["errors"].pop(ob.name_full, None)
-        except engine.USER_ERRORS as exc:
-            if _state["errors"].get(ob.name_full) != str(exc):   # say it once
-                _state["errors"][ob.name_full] = str(exc)
-                print("Edge Deform (%s, frame %d): %s" % (ob.name, scene.frame_current, exc))
-
-
-def bake_key_name(s, frame):
-    return "%s.%04d" % (s.shape_key_name, frame)
+        elif _state["errors"].get(ob.name_full) != problem:   # say it once
+            _state["errors"][ob.name_full] = problem
+            print("Edge Deform (%s, frame %d): %s" % (ob.name, scene.frame_current, problem))
 
 
 class EDGE_DEFORM_OT_bake(bpy.types.Operator):
@@ -57,51 +61,32 @@ class EDGE_DEFORM_OT_bake(bpy.types.Operator):
     def poll(cls, context):
         return poll_mesh(cls, context, ('OBJECT',), need_handles=True)
 
+    @guarded
     def execute(self, context):
         ob, scene = context.active_object, context.scene
         s = ob.edge_deform
         start, end = ((scene.frame_start, scene.frame_end) if self.use_scene_range
                       else (self.frame_start, self.frame_end))
         if end < start:
-            self.report({'ERROR'}, "Edge Deform: the frame range is empty")
-            return {'CANCELLED'}
+            raise engine.EdgeDeformError("the frame range is empty")
         frames = list(range(start, end + 1, self.frame_step))
         frame0 = scene.frame_current
         _state["baking"] = True
-        made = []
         try:
-            inputs = engine.gather_inputs(ob)
-            binding = engine.ensure_binding(ob, inputs)
-            binding.last = None   # frame `start` solves from scratch
+            bound = lifecycle.prepare(ob)
+            bound.binding.last = None   # frame `start` solves from scratch
             results = []
             for f in frames:   # solve everything first: on error nothing is written
                 scene.frame_set(f)
-                targets = engine.handle_targets(ob, binding, inputs)
-                results.append(engine.solve(binding, targets, self.iterations,
-                                            s.tolerance).positions)
-        except engine.USER_ERRORS as exc:
-            self.report({'ERROR'}, "Edge Deform: %s" % exc)
-            return {'CANCELLED'}
+                results.append(bound.solve(bound.targets(), self.iterations,
+                                           s.tolerance).positions)
         finally:
             scene.frame_set(frame0)
             _state["baking"] = False
-        for f in frames:   # a re-bake replaces the previous keys
-            mesh_io.remove_shape_key(ob, bake_key_name(s, f))
-        for f, X in zip(frames, results):
-            name = bake_key_name(s, f)
-            mesh_io.write_output(ob, 'SHAPE_KEY', name, X)
-            kb = ob.data.shape_keys.key_blocks[name]
-            for frame, value in ((f - self.frame_step, 0.0), (f, 1.0),
-                                 (f + self.frame_step, 0.0)):
-                kb.value = value
-                kb.keyframe_insert("value", frame=frame)
-            made.append(name)
-        live = ob.data.shape_keys.key_blocks.get(s.shape_key_name)
-        if live is not None:
-            live.value = 0.0   # the baked keys replace the live result
+        made = lifecycle.write_baked(ob, frames, results, self.frame_step)
         s.animate = False
         scene.frame_set(frame0)
-        self.report({'INFO'}, "Baked %d frames (%d-%d) into shape keys '%s.####'"
+        tell(self, 'INFO', "Baked %d frames (%d-%d) into shape keys '%s.####'"
                     % (len(made), frames[0], frames[-1], s.shape_key_name))
         return {'FINISHED'}
 

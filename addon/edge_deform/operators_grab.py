@@ -14,16 +14,15 @@ import numpy as np
 from bpy_extras.view3d_utils import region_2d_to_location_3d
 from mathutils import Vector
 
-from . import engine, mesh_io
-from .op_common import poll_mesh
-from .operators_live import TICK
+from . import engine, lifecycle, mesh_arrays
+from .op_common import ModalTool, error_text, guarded, poll_mesh, tell
 
 AXES = {'X': 0, 'Y': 1, 'Z': 2}
 NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'TRACKPADPAN',
               'TRACKPADZOOM', 'NDOF_MOTION'}
 
 
-class EDGE_DEFORM_OT_grab(bpy.types.Operator):
+class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
     """Drag the selected vertices; the mesh deforms around them. X/Y/Z: axis,
     Enter/click: confirm, Esc/right click: cancel"""
     bl_idname = "edge_deform.grab"
@@ -35,10 +34,10 @@ class EDGE_DEFORM_OT_grab(bpy.types.Operator):
         return (context.region_data is not None and context.window is not None
                 and poll_mesh(cls, context, ('EDIT',)))
 
+    @guarded
     def invoke(self, context, event):
         ob = context.active_object
-        s = ob.edge_deform
-        moving = np.flatnonzero(mesh_io.read_selection(ob))
+        moving = np.flatnonzero(mesh_arrays.read_selection(ob))
         try:
             if moving.size == 0:
                 raise engine.EdgeDeformError("Select the vertices to drag")
@@ -49,24 +48,20 @@ class EDGE_DEFORM_OT_grab(bpy.types.Operator):
             if moving.size == 0:
                 raise engine.EdgeDeformError("The selection is static or outside the region")
             bpy.ops.object.mode_set(mode='OBJECT')
-            self.ob = ob
-            binding = engine.ensure_binding(ob, inputs)
-            current = mesh_io.read_output(ob, s.output, s.shape_key_name)
+            bound = lifecycle.prepare(ob, inputs)
+            current = lifecycle.shown_positions(ob)
             pinned = np.setdiff1d(inputs.handles, moving)
-            binding.use_constraints(np.concatenate([moving, pinned]), inputs.static,
-                                    inputs.roi)
-        except engine.USER_ERRORS as exc:
+            bound.use_constraints(np.concatenate([moving, pinned]), inputs.static, inputs.roi)
+        except Exception:
             if ob.mode != 'EDIT':
                 bpy.ops.object.mode_set(mode='EDIT')
-            self.report({'ERROR'}, "Edge Deform: %s" % exc)
-            return {'CANCELLED'}
-        self.binding = binding
-        self.snapshot = mesh_io.OutputSnapshot(ob, s.shape_key_name)
+            raise
+        self.bound = bound
         self.current = current
         self.start = current[moving]
         self.pinned = current[pinned]
         self.n_moving = moving.size
-        self.mw = mesh_io.matrix_to_numpy(ob.matrix_world)
+        self.mw = mesh_arrays.matrix_to_numpy(ob.matrix_world)
         self.depth = ob.matrix_world @ Vector(self.start.mean(axis=0))
         self.mouse0 = (event.mouse_region_x, event.mouse_region_y)
         self.mouse = self.mouse0
@@ -74,11 +69,9 @@ class EDGE_DEFORM_OT_grab(bpy.types.Operator):
         self.dirty, self.converged, self.first = True, False, True
         self.stats = ""
         self.budget = engine.IterationBudget()
-        self.region, self.rv3d, self.area = context.region, context.region_data, context.area
-        wm = context.window_manager
-        self.timer = wm.event_timer_add(TICK, window=context.window)
-        wm.modal_handler_add(self)
-        self.header()
+        self.region, self.rv3d = context.region, context.region_data
+        self.start_modal(context, ob)
+        self.show()
         return {'RUNNING_MODAL'}
 
     def offset(self):
@@ -100,32 +93,39 @@ class EDGE_DEFORM_OT_grab(bpy.types.Operator):
         targets = np.concatenate([self.start + self.delta, self.pinned])
         iterations = self.budget.iterations(s.iterations)
         try:
-            if self.first:   # start from what is shown, not from the rest shape
-                r = self.binding.deformer.solve(targets, max_iterations=iterations,
-                                                tolerance=s.tolerance, warm_start=False,
-                                                initial=self.current)
-            else:
-                r = self.binding.deformer.solve(targets, max_iterations=iterations,
-                                                tolerance=s.tolerance, warm_start=True)
+            # The first solve starts from what is shown, not from the rest shape.
+            r = self.bound.solve(targets, iterations, s.tolerance, warm=True,
+                                 initial=self.current if self.first else None)
             self.budget.record(r, (time.perf_counter() - t0) * 1e3)
-        except engine.USER_ERRORS as exc:
-            self.report({'ERROR'}, "Edge Deform: %s" % exc)
+            self.bound.write(r.positions)
+        except Exception as exc:  # noqa: BLE001 - shown; the next move retries
+            tell(self, 'ERROR', error_text(exc))
             self.dirty, self.converged = False, True
             return
         self.first = False
-        self.binding.last = r
-        engine.write(self.ob, self.binding, r.positions)
-        self.dirty, self.converged = False, r.converged
-        self.stats = "%d it, %.1f ms" % (r.iterations, (time.perf_counter() - t0) * 1e3)
-        self.header()
+        self.dirty = False
+        _, self.stats, self.converged = engine.status(r, (time.perf_counter() - t0) * 1e3)
+        self.show()
 
-    def header(self):
+    def show(self):
         axis = "XYZ"[self.axis] if self.axis is not None else "free"
-        self.area.header_text_set(
-            "Edge Deform grab: %d vertices | X/Y/Z: axis (%s) | Enter/Click: confirm | "
-            "Esc/Right click: cancel | %s" % (self.n_moving, axis, self.stats))
+        self.header("Edge Deform grab: %d vertices | X/Y/Z: axis (%s) | Enter/Click: confirm "
+                    "| Esc/Right click: cancel | %s" % (self.n_moving, axis, self.stats))
 
     def modal(self, context, event):
+        try:
+            why = self.lost()
+            if why is not None:
+                self.end_modal(context)
+                self.snapshot.discard()
+                tell(self, 'WARNING', "Grab Deform ended: " + why)
+                return {'CANCELLED'}
+            return self.handle(context, event)
+        except Exception as exc:  # noqa: BLE001 - never leave a broken modal behind
+            tell(self, 'ERROR', error_text(exc))
+            return self.end(context, {'CANCELLED'}, restore=True)
+
+    def handle(self, context, event):
         if event.type == 'MOUSEMOVE':
             self.mouse = (event.mouse_region_x, event.mouse_region_y)
             self.dirty = True
@@ -136,30 +136,31 @@ class EDGE_DEFORM_OT_grab(bpy.types.Operator):
             axis = AXES[event.type]
             self.axis = None if self.axis == axis else axis
             self.dirty = True
-            self.header()
+            self.show()
         elif event.type in {'RET', 'NUMPAD_ENTER', 'LEFTMOUSE'} and event.value == 'PRESS':
             if self.dirty:
                 self.update()
             return self.end(context, {'FINISHED'})
         elif event.type in {'ESC', 'RIGHTMOUSE'} and event.value == 'PRESS':
-            self.snapshot.restore(self.ob)
-            return self.end(context, {'CANCELLED'})
+            return self.end(context, {'CANCELLED'}, restore=True)
         elif event.type in NAVIGATION:
             return {'PASS_THROUGH'}
         return {'RUNNING_MODAL'}
 
-    def end(self, context, result):
-        context.window_manager.event_timer_remove(self.timer)
-        self.area.header_text_set(None)
-        self.binding.constraint_key = None   # the settings' handles return on next sync
-        self.binding.last = None
+    def end(self, context, result, restore=False):
+        self.end_modal(context)
+        self.bound.release()   # the settings' handles return on the next sync
+        if restore:
+            self.restore(context)
+        else:
+            self.snapshot.discard()
         if self.ob.mode != 'EDIT':
-            bpy.ops.object.mode_set(mode='EDIT')
+            with context.temp_override(object=self.ob, active_object=self.ob):
+                bpy.ops.object.mode_set(mode='EDIT')
         return result
 
-    def cancel(self, context):
-        self.snapshot.restore(self.ob)
-        self.end(context, {'CANCELLED'})
+    def cancel(self, context):   # Blender closes the window or quits
+        self.end(context, {'CANCELLED'}, restore=True)
 
 
 CLASSES = (EDGE_DEFORM_OT_grab,)

@@ -9,8 +9,8 @@ import numpy as np
 from bpy.props import EnumProperty, FloatProperty, StringProperty
 from mathutils import Matrix, Vector
 
-from . import mesh_io
-from .op_common import object_mode, poll_mesh
+from . import engine, mesh_arrays
+from .op_common import object_mode, poll_mesh, tell
 
 PRESETS = {'SOFT': 0.0, 'MEDIUM': 0.5, 'RIGID': 1.0}
 STATIC_DEFAULT = "EdgeDeform_Static"
@@ -19,7 +19,7 @@ STIFFNESS_DEFAULT = "EdgeDeform_Stiffness"
 
 
 def _selected(op, ob):
-    idx = np.flatnonzero(mesh_io.read_selection(ob))
+    idx = np.flatnonzero(mesh_arrays.read_selection(ob))
     if idx.size == 0:
         op.report({'ERROR'}, "No vertices selected")
     return idx
@@ -43,7 +43,7 @@ class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
         if idx.size == 0:
             return {'CANCELLED'}
         s = ob.edge_deform
-        X = mesh_io.read_positions(ob.data)
+        X = mesh_arrays.read_positions(ob.data)
         centroid = ob.matrix_world @ Vector(X[idx].mean(axis=0))
         size = float(np.ptp(X, axis=0).max()) * 0.08 or 0.1
         with object_mode(ob):
@@ -52,7 +52,7 @@ class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
                 if other and other in ob.vertex_groups:
                     ob.vertex_groups[other].remove(idx.tolist())
             vg = ob.vertex_groups.new(name=self.name or "Handle")   # unique: "Handle.001"
-            mesh_io.assign_group(ob, vg.name, idx)
+            mesh_arrays.assign_group(ob, vg.name, idx)
             empty = bpy.data.objects.new(vg.name + "_Controller", None)
             empty.empty_display_type = 'SPHERE'
             empty.empty_display_size = size
@@ -62,9 +62,9 @@ class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
             item = s.handles.add()
             item.vertex_group = vg.name
             item.controller = empty
-            item.rest_matrix = Matrix.Translation(centroid)
+            item.rest_matrix = engine.controller_rest(ob, empty)
             s.active_handle = len(s.handles) - 1
-        self.report({'INFO'}, "Handle '%s': %d vertices, controller '%s'"
+        tell(self, 'INFO', "Handle '%s': %d vertices, controller '%s'"
                     % (vg.name, idx.size, empty.name))
         return {'FINISHED'}
 
@@ -102,9 +102,9 @@ class _SetGroup:
             return {'CANCELLED'}
         name = getattr(ob.edge_deform, self.field) or self.default
         with object_mode(ob):
-            vg = mesh_io.assign_group(ob, name, idx, 1.0, replace_all=True)
+            vg = mesh_arrays.assign_group(ob, name, idx, 1.0, replace_all=True)
         setattr(ob.edge_deform, self.field, vg.name)
-        self.report({'INFO'}, "%s group '%s': %d vertices" % (self.bl_label.split()[-1],
+        tell(self, 'INFO', "%s group '%s': %d vertices" % (self.bl_label.split()[-1],
                                                                  vg.name, idx.size))
         return {'FINISHED'}
 
@@ -129,7 +129,7 @@ def ensure_stiffness_group(ob):
     name = s.stiffness_group or STIFFNESS_DEFAULT
     if name not in ob.vertex_groups:
         with object_mode(ob):
-            vg = mesh_io.assign_group(ob, name, np.arange(len(ob.data.vertices)),
+            vg = mesh_arrays.assign_group(ob, name, np.arange(len(ob.data.vertices)),
                                       s.stiffness)
         name = vg.name
     s.stiffness_group = name
@@ -162,8 +162,8 @@ class EDGE_DEFORM_OT_assign_stiffness(bpy.types.Operator):
         lam = PRESETS.get(self.preset, self.value)
         vg = ensure_stiffness_group(ob)
         with object_mode(ob):
-            mesh_io.assign_group(ob, vg.name, idx, lam)
-        self.report({'INFO'}, "λ = %.2f on %d vertices (group '%s')" % (lam, idx.size, vg.name))
+            mesh_arrays.assign_group(ob, vg.name, idx, lam)
+        tell(self, 'INFO', "λ = %.2f on %d vertices (group '%s')" % (lam, idx.size, vg.name))
         return {'FINISHED'}
 
 

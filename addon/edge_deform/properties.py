@@ -14,8 +14,9 @@ class EdgeDeformHandle(bpy.types.PropertyGroup):
     controller: PointerProperty(
         name="Controller", type=bpy.types.Object,
         description="Object whose motion since its rest transform moves the handle")
-    # World matrix of the controller when the handle was added or the object bound;
-    # the handle target is controller.matrix_world @ rest_inverse applied to rest positions.
+    # The controller's transform in the deformed object's space (ob.matrix_world⁻¹ @
+    # controller.matrix_world) when the handle was added or the object bound; the handle
+    # moves by (ob.matrix_world⁻¹ @ controller.matrix_world) @ rest_matrix⁻¹.
     rest_matrix: FloatVectorProperty(
         name="Rest Matrix", size=(4, 4), subtype='MATRIX', default=IDENTITY,
         options={'HIDDEN'})
@@ -56,12 +57,32 @@ class EdgeDeformSettings(bpy.types.PropertyGroup):
         description="Re-solve on every frame change (animated controllers)")
 
 
-CLASSES = (EdgeDeformHandle, EdgeDeformSettings)
+class EdgeDeformMeshState(bpy.types.PropertyGroup):
+    """What Edge Deform last did to this mesh; read and written only by lifecycle.py.
+    Kept on the Mesh so that undo, save and reload carry it with the vertices."""
+    output: EnumProperty(
+        name="Output Held", default='NONE',
+        items=[('NONE', "None", "The base mesh is the rest shape"),
+               ('SHAPE_KEY', "Shape Key", "The add-on's shape key holds the last result"),
+               ('MESH', "Mesh", "The base mesh holds the last result; the rest is stored")])
+    output_key: StringProperty(name="Output Key", description="The shape key the add-on made")
+    made_key_datablock: BoolProperty(
+        name="Made Shape Keys", description="The add-on added the Basis (Apply removes it)")
+    topology: StringProperty(name="Topology", description="Topology digest at the last write")
+    written: StringProperty(name="Written", description="Hash of the output last written")
+    base: StringProperty(name="Base", description="Hash of the base mesh at the last write")
+    baked_keys: StringProperty(name="Baked Keys", description="Keys made by Bake, one a line")
+
+
+CLASSES = (EdgeDeformHandle, EdgeDeformSettings, EdgeDeformMeshState)
 
 
 def register_props():
     bpy.types.Object.edge_deform = PointerProperty(type=EdgeDeformSettings)
+    bpy.types.Mesh.edge_deform_state = PointerProperty(type=EdgeDeformMeshState,
+                                                       options={'HIDDEN'})
 
 
 def unregister_props():
+    del bpy.types.Mesh.edge_deform_state
     del bpy.types.Object.edge_deform

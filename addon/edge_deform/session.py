@@ -3,6 +3,7 @@
 Keyed by the mesh datablock pointer; each entry also remembers the topology (counts and a
 digest) and the settings it was built from, so a stale entry is rebuilt, never reused.
 Entries are plain Python objects: they die with the session, and nothing here touches bpy.
+Only lifecycle.py uses this cache (it decides when an entry may be trusted).
 """
 
 import hashlib
@@ -37,6 +38,7 @@ class Binding:
         self.deformer = None
         self.domain = None
         self.inputs = None          # the Inputs last synced
+        self.inputs_owner = None    # name of the object whose settings they are
         self.constraint_key = None
         self.stiffness_key = None
         self.last = None            # last SolveResult, for warm starts

@@ -2,6 +2,8 @@
 
 import bpy
 
+from . import operators_bake
+
 
 class EDGE_DEFORM_UL_handles(bpy.types.UIList):
     def draw_item(self, context, layout, data, item, icon, active_data, active_prop):
@@ -110,6 +112,9 @@ class EDGE_DEFORM_PT_main(bpy.types.Panel):
         box = layout.box()
         box.label(text="Animation", icon='ANIM')
         box.prop(s, "animate")
+        problem = operators_bake.frame_problem(ob) if s.animate else None
+        if problem:
+            box.label(text=problem, icon='ERROR')
         box.operator("edge_deform.bake")
 
 

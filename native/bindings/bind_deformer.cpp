@@ -4,7 +4,9 @@
 #include <pybind11/stl.h>
 
 #include "edgedeform/deformer.h"
+#include "edgedeform/errors.h"
 #include "numpy_convert.h"
+#include "signal_check.h"
 
 namespace edgedeform::bindings {
 
@@ -89,8 +91,14 @@ void bind_deformer(py::module_& m) {
             o.warm_start = warm_start;
             if (!initial.is_none()) o.initial = to_points(initial, "initial");
             RowMatrixX3d t = to_points(targets, "targets");
-            py::gil_scoped_release release;
-            return d.solve(t, o);
+            SignalCheck signals;
+            o.interrupt_requested = signals.callback();
+            try {
+              py::gil_scoped_release release;
+              return d.solve(t, o);
+            } catch (const SolveInterrupted&) {  // the GIL is back: raise KeyboardInterrupt
+              signals.raise_pending();
+            }
           },
           py::arg("targets"), py::arg("max_iterations") = 10, py::arg("tolerance") = 1e-4, py::arg("warm_start") = true,
           py::arg("initial") = py::none())
@@ -107,6 +115,8 @@ void bind_deformer(py::module_& m) {
       .def_property_readonly("n_nodes", [](const Deformer& d) { return d.graph().n_nodes; })
       .def_property_readonly("domain", [](const Deformer& d) { return std::string(domain_name(d.domain())); })
       .def_property_readonly("analyses", &Deformer::analyses, "symbolic analyses so far (reuse check)")
+      .def_property_readonly("factor_nonzeros", &Deformer::factor_nonzeros,
+                             "entries of the Cholesky factor from the last analysis (0 before the first solve)")
       .def("edges", [](const Deformer& d) { return int_matrix(d.topology().edges); })
       .def("node_vertices",
            [](const Deformer& d) {

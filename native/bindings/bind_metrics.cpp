@@ -2,19 +2,20 @@
 
 #include "edgedeform/metrics.h"
 #include "numpy_convert.h"
+#include "typed_args.h"
 
 namespace edgedeform::bindings {
 
 void bind_metrics(py::module_& m) {
   m.def(
       "metrics",
-      [](const py::handle& rest, const py::handle& F, const py::handle& deformed, const py::handle& handles,
-         const py::handle& targets) {
-        const RowMatrixX3d r = to_points(rest, "V_rest");
-        const RowMatrixX3i f = to_faces(F, "F");
-        const RowMatrixX3d x = to_points(deformed, "V_def");
-        const std::vector<int> h = to_indices(handles, "handles");
-        const RowMatrixX3d t = targets.is_none() ? RowMatrixX3d(0, 3) : to_points(targets, "targets");
+      [](const PointsArg& rest, const FacesArg& F, const PointsArg& deformed, const OptionalIndicesArg& handles,
+         const OptionalTargetsArg& targets) {
+        const RowMatrixX3d r = to_points(rest.obj, "V_rest");
+        const RowMatrixX3i f = to_faces(F.obj, "F");
+        const RowMatrixX3d x = to_points(deformed.obj, "V_def");
+        const std::vector<int> h = to_indices(handles.obj, "handles");
+        const RowMatrixX3d t = targets.obj.is_none() ? RowMatrixX3d(0, 3) : to_points(targets.obj, "targets");
         QualityMetrics q;
         {
           py::gil_scoped_release release;
@@ -30,7 +31,15 @@ void bind_metrics(py::module_& m) {
         return out;
       },
       py::arg("V_rest"), py::arg("F"), py::arg("V_def"), py::arg("handles") = py::none(), py::arg("targets") = py::none(),
-      "Quality of a deformed mesh against its rest shape (see docs/api.md).");
+      R"doc(Quality of a deformed mesh against its rest shape.
+
+V_rest, V_def: (n, 3) rest and deformed positions; F: (m, 3) triangles;
+handles: (h,) handle vertex indices and targets: (h, 3) their targets, or None.
+Returns a dict: handle_error (max distance of a handle to its target),
+mean_edge_strain and max_edge_strain (|l - l0| / l0 over mesh edges),
+mean_dihedral_change (radians, interior edges), arap_energy (classic primal ARAP energy,
+clamped cotangent spokes) and arap_energy_normalized (arap_energy divided by
+sum_ij w_ij |e0_ij|^2, so meshes of any size and scale compare).)doc");
 }
 
 }  // namespace edgedeform::bindings

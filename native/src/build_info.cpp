@@ -2,11 +2,8 @@
 
 #include <Eigen/Core>
 
+#include "edgedeform/parallel.h"
 #include "edgedeform/sparse_cholesky.h"
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 namespace edgedeform {
 
@@ -21,13 +18,7 @@ bool has_openmp() {
 #endif
 }
 
-int max_threads() {
-#ifdef _OPENMP
-  return omp_get_max_threads();
-#else
-  return 1;
-#endif
-}
+int max_threads() { return parallel_threads(); }
 
 std::string eigen_version() {
   return std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +

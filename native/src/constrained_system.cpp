@@ -196,13 +196,55 @@ ConstrainedSystem build_constrained_system(const NodeGraph& g, const RowMatrixX3
   return sys;
 }
 
+std::vector<int> free_vertex_order(const ConstrainedSystem& sys, const std::vector<int>& rank) {
+  for (int v : sys.free_vertices)
+    if (static_cast<size_t>(v) >= rank.size() || rank[static_cast<size_t>(v)] < 0) return {};
+  std::vector<int> order(static_cast<size_t>(sys.n_free()));
+  for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return rank[static_cast<size_t>(sys.free_vertices[static_cast<size_t>(a)])] <
+           rank[static_cast<size_t>(sys.free_vertices[static_cast<size_t>(b)])];
+  });
+  return order;
+}
+
 AssembledSystem assemble_system(const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
   AssembledSystem out;
   const NodeStencil& st = sys.stencil;
   const int T = st.n_terms, nf = sys.n_free();
+  // H at lambda = 1 (1-form columns) and lambda = 0 (Laplacian columns); the operator
+  // weighs them per term, so that a change of lambda keeps it. Column 6t+k carries
+  // R_t(d,k) through the 1-form term, column 6t+3+k carries s_t R_t(d,k) through the
+  // Laplacian term: a term's six columns are adjacent, so a row of the product reads Z in a
+  // few cache lines per term.
+  const SparseMatrix J1fT = sys.J1f.transpose(), J2fT = sys.J2f.transpose();
+  std::vector<Eigen::Triplet<double>> h;
+  h.reserve(static_cast<size_t>(3 * (J1fT.nonZeros() + J2fT.nonZeros())));
+  for (int t = 0; t < T; ++t) {
+    for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a) {
+      const double w = st.weight[static_cast<size_t>(a)];
+      if (w == 0.0) continue;
+      for (SparseMatrix::InnerIterator it(J1fT, a); it; ++it)
+        for (int k = 0; k < 3; ++k) h.emplace_back(static_cast<int>(it.row()), 6 * t + k, w * it.value() * st.rest_edge(a, k));
+    }
+    for (SparseMatrix::InnerIterator it(J2fT, t); it; ++it)
+      for (int k = 0; k < 3; ++k)
+        h.emplace_back(static_cast<int>(it.row()), 6 * t + 3 + k, it.value() * st.rest_laplacian(t, k));
+  }
+  SparseMatrixRowMajor H(nf, 6 * T);
+  H.setFromTriplets(h.begin(), h.end());
+  out.H = RotationOperator(H);
+  update_stiffness(out, sys, node_lambda);
+  return out;
+}
+
+void update_stiffness(AssembledSystem& out, const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
+  const NodeStencil& st = sys.stencil;
+  const int T = st.n_terms;
   out.term_lambda.resize(T);
   for (int t = 0; t < T; ++t) out.term_lambda(t) = node_lambda(sys.term_nodes[static_cast<size_t>(t)]);
   out.laplacian_term = (out.term_lambda.array() < 1.0).any();
+  out.H.set_term_lambda(out.term_lambda);
 
   Eigen::VectorXd w1(st.n_arcs());
   for (int t = 0; t < T; ++t)
@@ -213,36 +255,13 @@ AssembledSystem assemble_system(const ConstrainedSystem& sys, const Eigen::Vecto
   // The J1 term is kept even when every W1 is 0: its pattern lies inside the J2 term's, so
   // the symbolic analysis survives any change of lambda below 1.
   const SparseMatrix B1 = SparseMatrix(sys.J1f.transpose()) * w1.asDiagonal();
-  SparseMatrix B2;
   out.A = B1 * sys.J1f;
   out.K_fixed = B1 * sys.J1c;
   if (out.laplacian_term) {
-    B2 = SparseMatrix(sys.J2f.transpose()) * w2.asDiagonal();
+    const SparseMatrix B2 = SparseMatrix(sys.J2f.transpose()) * w2.asDiagonal();
     out.A += B2 * sys.J2f;
     out.K_fixed += B2 * sys.J2c;
   }
-
-  // H: column 6t+k (k = 0..2) carries R_t(d,k) through the 1-form term, column 6t+3+k
-  // carries s_t R_t(d,k) through the Laplacian term. A term's six columns are adjacent, so
-  // a row of the product reads Z in a few cache lines per term.
-  std::vector<Eigen::Triplet<double>> h;
-  h.reserve(static_cast<size_t>(3 * (B1.nonZeros() + B2.nonZeros())));
-  for (int t = 0; t < T; ++t) {
-    for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a) {
-      if (w1(a) == 0.0) continue;
-      for (SparseMatrix::InnerIterator it(B1, a); it; ++it)
-        for (int k = 0; k < 3; ++k) h.emplace_back(static_cast<int>(it.row()), 6 * t + k, it.value() * st.rest_edge(a, k));
-    }
-    if (out.laplacian_term && w2(t) != 0.0)
-      for (SparseMatrix::InnerIterator it(B2, t); it; ++it)
-        for (int k = 0; k < 3; ++k)
-          h.emplace_back(static_cast<int>(it.row()), 6 * t + 3 + k, it.value() * st.rest_laplacian(t, k));
-  }
-  SparseMatrixRowMajor H(nf, 6 * T);
-  H.setFromTriplets(h.begin(), h.end());
-  out.H = RotationOperator(H);
-  return out;
 }
-
 
 }  // namespace edgedeform

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "edgedeform/errors.h"
 #include "edgedeform/mesh_checks.h"
 #include "edgedeform/stiffness.h"
 
@@ -25,11 +26,13 @@ void stencil_node_positions(const ConstrainedSystem& sys, const RowMatrixX3d& x_
     p.row(s) = 0.5 * (x_local.row(sys.stencil_node_vertices(s, 0)) + x_local.row(sys.stencil_node_vertices(s, 1)));
 }
 
-void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX3d& targets, const SolveOptions& o) {
+void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX3d& targets, const SolveOptions& o,
+                           const SafeRange& range) {
   if (targets.rows() != static_cast<Eigen::Index>(sys.handles.size()))
     throw std::invalid_argument("targets has " + std::to_string(targets.rows()) + " rows, expected one per handle (" +
                                 std::to_string(sys.handles.size()) + ")");
   check_finite(targets, "targets");
+  check_distance(targets, range.center, range.limit, "targets");
   if (o.max_iterations < 1)
     throw std::invalid_argument("max_iterations must be at least 1, got " + std::to_string(o.max_iterations));
   if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance))
@@ -39,18 +42,30 @@ void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX
       throw std::invalid_argument("initial has " + std::to_string(o.initial->rows()) + " rows, expected " +
                                   std::to_string(n) + " (one per vertex)");
     check_finite(*o.initial, "initial");
+    check_distance(*o.initial, range.center, range.limit, "initial");
   }
+}
+
+void stop_if_interrupted(const SolveOptions& o) {
+  if (o.interrupt_requested && o.interrupt_requested()) throw SolveInterrupted("solve interrupted");
 }
 
 }  // namespace
 
 Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, bool clamp_negative_weights) {
   check_mesh(V, F);
+  safe_range_.center = 0.5 * (V.colwise().minCoeff() + V.colwise().maxCoeff());
+  check_distance(V, safe_range_.center, largest_safe_distance(1.0), "V");  // before any products
+  check_geometry(V, F);
   rest_ = V;
   faces_ = F;
   topology_ = build_edge_topology(F, static_cast<int>(V.rows()));
   graph_ = build_node_graph(V, F, topology_, domain, clamp_negative_weights);
+  safe_range_.limit = largest_safe_distance(graph_.arc_weights.cwiseAbs().sum());
+  check_distance(V, safe_range_.center, safe_range_.limit, "V");
   referenced_ = referenced_vertices(F, static_cast<int>(V.rows()));
+  seams_ = find_seam_copies(V, F);
+  seam_tolerance_ = 1e-6 * (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
   vertex_lambda_ = Eigen::VectorXd::Constant(V.rows(), 0.5);
   node_lambda_ = node_stiffness(graph_, vertex_lambda_);
   node_rotation_.assign(static_cast<size_t>(graph_.n_nodes), Eigen::Matrix3d::Identity());
@@ -116,23 +131,40 @@ void Deformer::set_stiffness(const Eigen::VectorXd& vertex_lambda) {
   vertex_lambda_ = vertex_lambda;
   if (node == node_lambda_) return;  // the same system: keep the factorization
   node_lambda_ = std::move(node);
-  assembled_.reset();
+  stiffness_changed_ = true;
 }
 
 void Deformer::ensure_factored(SolveResult& result) {
-  if (assembled_) return;
+  if (assembled_ && !stiffness_changed_) return;
   const auto start = Clock::now();
-  auto assembled = std::make_unique<AssembledSystem>(assemble_system(*system_, node_lambda_));
-  if (system_->n_free() > 0) cholesky_.factorize(assembled->A);  // throws FactorizationError
+  // Kept only once factored: after a failure the next call assembles anew.
+  std::unique_ptr<AssembledSystem> assembled = std::move(assembled_);
+  if (assembled)  // only lambda changed: new values in the same operators and pattern
+    update_stiffness(*assembled, *system_, node_lambda_);
+  else
+    assembled = std::make_unique<AssembledSystem>(assemble_system(*system_, node_lambda_));
+  if (system_->n_free() > 0) {
+    const std::vector<int> order = free_vertex_order(*system_, vertex_rank_);
+    cholesky_.factorize(assembled->A, order);  // throws FactorizationError
+    if (order.empty()) remember_order();
+  }
   assembled_ = std::move(assembled);
+  stiffness_changed_ = false;
   result.factor_ms = ms_since(start);
+}
+
+void Deformer::remember_order() {
+  const std::vector<int> order = cholesky_.order();
+  vertex_rank_.assign(static_cast<size_t>(n_vertices()), -1);
+  for (size_t k = 0; k < order.size(); ++k)
+    vertex_rank_[static_cast<size_t>(system_->free_vertices[static_cast<size_t>(order[k])])] = static_cast<int>(k);
 }
 
 SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& options) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!system_) throw std::invalid_argument("set_constraints(handles=...) must be called before solve");
   const ConstrainedSystem& sys = *system_;
-  check_solve_arguments(sys, n_vertices(), targets, options);
+  check_solve_arguments(sys, n_vertices(), targets, options, safe_range_);
 
   SolveResult result;
   result.warnings = sys.warnings;
@@ -169,6 +201,7 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   const double energy_floor = 1e-14 * sys.rest_scale;
   Eigen::MatrixXd rhs, xf;
   for (int it = 0; it < options.max_iterations; ++it) {
+    stop_if_interrupted(options);
     auto t0 = Clock::now();
     as.H.apply(fit.rotation, fit.scale, c, rhs);
     result.rhs_ms += ms_since(t0);
@@ -194,6 +227,7 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   }
 
   for (int k = 0; k < nf; ++k) result.positions.row(sys.free_vertices[static_cast<size_t>(k)]) = x_local.row(k);
+  if (auto torn = seam_warning(seams_, result.positions, seam_tolerance_)) result.warnings.push_back(*torn);
   last_fit_ = std::move(fit);  // the next warm start begins here
   last_fit_valid_ = true;
   return result;

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <stdexcept>
-#include <string>
 #include <vector>
 
 namespace edgedeform {
@@ -28,9 +26,6 @@ EdgeTopology build_edge_topology(const RowMatrixX3i& F, int n_vertices) {
     while (e < corners.size() && corners[e].first == corners[s].first) ++e;
     const int64_t key = corners[s].first;
     const int a = static_cast<int>(key / n_vertices), b = static_cast<int>(key % n_vertices);
-    if (e - s > 2)
-      throw std::invalid_argument("non-manifold edge (" + std::to_string(a) + ", " + std::to_string(b) +
-                                  ") is shared by " + std::to_string(e - s) + " faces");
     const int edge = static_cast<int>(a_list.size());
     for (size_t c = s; c < e; ++c) topo.face_edges(corners[c].second / 3, corners[c].second % 3) = edge;
     a_list.push_back(a);

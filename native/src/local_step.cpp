@@ -5,6 +5,7 @@
 
 
 #include "edgedeform/node_graph.h"
+#include "edgedeform/parallel.h"
 
 namespace edgedeform {
 
@@ -89,6 +90,10 @@ double fit_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int
   return lambda * rigid + (1.0 - lambda) * smooth;
 }
 
+// Threads only for stencils of at least this many terms. KTERMS_TBD
+constexpr int kMinParallelTerms = 1024;
+constexpr int kTermsPerChunk = 256;
+
 }  // namespace
 
 void fit_local(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::VectorXd& lambda, LocalFit& fit) {
@@ -98,13 +103,14 @@ void fit_local(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::Vector
   fit.scale.resize(T);
   fit.term_energy.resize(T);
   if (fit.right_vectors.size() != static_cast<size_t>(T)) fit.right_vectors.assign(static_cast<size_t>(T), Eigen::Matrix3d::Identity());
-#pragma omp parallel for schedule(dynamic, 256) if (T > 1024)
-  for (int t = 0; t < T; ++t) {
-    double s = 1.0;
-    fit.term_energy(t) = fit_term(st, p, lambda(t), t, fit.rotation[static_cast<size_t>(t)],
-                                  fit.right_vectors[static_cast<size_t>(t)], s, warm);
-    fit.scale(t) = s;
-  }
+  parallel_for(T, kTermsPerChunk, kMinParallelTerms, [&](int begin, int end) {
+    for (int t = begin; t < end; ++t) {
+      double s = 1.0;
+      fit.term_energy(t) = fit_term(st, p, lambda(t), t, fit.rotation[static_cast<size_t>(t)],
+                                    fit.right_vectors[static_cast<size_t>(t)], s, warm);
+      fit.scale(t) = s;
+    }
+  });
   fit.energy = fit.term_energy.sum();  // a fixed order: the same energy on every run
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -61,23 +62,29 @@ QualityMetrics compute_metrics(const RowMatrixX3d& rest, const RowMatrixX3i& F, 
   }
   if (strained > 0) q.mean_edge_strain /= strained;
 
-  // The two faces of every interior edge.
-  Eigen::MatrixXi edge_faces = Eigen::MatrixXi::Constant(topo.edges.rows(), 2, -1);
+  // The faces around every edge (CSR): two at an interior edge, k > 2 at a non-manifold one.
+  std::vector<int> first(static_cast<size_t>(topo.edges.rows()) + 1, 0);
+  for (Eigen::Index e = 0; e < topo.edges.rows(); ++e)
+    first[static_cast<size_t>(e) + 1] = first[static_cast<size_t>(e)] + topo.face_count(e);
+  std::vector<int> edge_faces(static_cast<size_t>(first.back()));
+  std::vector<int> cursor(first.begin(), first.end() - 1);
   for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int e = topo.face_edges(f, k);
-      edge_faces(e, edge_faces(e, 0) < 0 ? 0 : 1) = static_cast<int>(f);
-    }
-  int interior = 0;
+    for (int k = 0; k < 3; ++k)
+      edge_faces[static_cast<size_t>(cursor[static_cast<size_t>(topo.face_edges(f, k))]++)] = static_cast<int>(f);
+  // Every pair of faces at an edge is one hinge; a fin's edge has three.
+  int hinges = 0;
   for (Eigen::Index e = 0; e < topo.edges.rows(); ++e) {
-    if (edge_faces(e, 1) < 0) continue;
-    const int a = topo.edges(e, 0), b = topo.edges(e, 1), f = edge_faces(e, 0), g = edge_faces(e, 1);
-    double change = std::abs(dihedral(X, F, f, g, a, b) - dihedral(rest, F, f, g, a, b));
-    if (change > kPi) change = 2.0 * kPi - change;
-    q.mean_dihedral_change += change;
-    ++interior;
+    const int a = topo.edges(e, 0), b = topo.edges(e, 1);
+    for (int s = first[static_cast<size_t>(e)]; s < first[static_cast<size_t>(e) + 1]; ++s)
+      for (int t = s + 1; t < first[static_cast<size_t>(e) + 1]; ++t) {
+        const int f = edge_faces[static_cast<size_t>(s)], g = edge_faces[static_cast<size_t>(t)];
+        double change = std::abs(dihedral(X, F, f, g, a, b) - dihedral(rest, F, f, g, a, b));
+        if (change > kPi) change = 2.0 * kPi - change;
+        q.mean_dihedral_change += change;
+        ++hinges;
+      }
   }
-  if (interior > 0) q.mean_dihedral_change /= interior;
+  if (hinges > 0) q.mean_dihedral_change /= hinges;
 
   const NodeGraph primal = build_node_graph(rest, F, topo, Domain::Primal, /*clamp_negative_weights=*/true);
   std::vector<int> all(static_cast<size_t>(n));

@@ -65,12 +65,24 @@ bool refine_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& R) {
     w(0) -= l10 * w(1) + l20 * w(2);
     const double size = w.norm();
     if (step == 0 && size > 0.3) return false;  // far: quadratic convergence not yet there
-    // Cayley step: a rotation by ~|w| (to third order), exactly orthogonal.
+    // Cayley step: a rotation by ~|w| (to third order), exactly orthogonal. With
+    // [c]^2 = c c^T - |c|^2 I it needs no matrix product.
     const Eigen::Vector3d c = 0.5 * w;
-    const Eigen::Matrix3d C = cross_matrix(c);
-    const Eigen::Matrix3d step_rotation = Eigen::Matrix3d::Identity() + (2.0 / (1.0 + c.squaredNorm())) * (C + C * C);
+    const double c2 = c.squaredNorm(), f = 2.0 / (1.0 + c2);
+    Eigen::Matrix3d step_rotation = (f * c) * c.transpose();
+    step_rotation.diagonal().array() += 1.0 - f * c2;
+    step_rotation(0, 1) -= f * c.z();
+    step_rotation(1, 0) += f * c.z();
+    step_rotation(0, 2) += f * c.y();
+    step_rotation(2, 0) -= f * c.y();
+    step_rotation(1, 2) -= f * c.x();
+    step_rotation(2, 1) += f * c.x();
     Rn = step_rotation * Rn;
-    if (size < 1e-7) {  // the next error would be ~size^2: done
+    // Newton's error after a step of size |w| is about kappa |w|^2, kappa = the pivots'
+    // spread (a bound on H's condition): below 1e-12 the rotation is as exact as the SVD's
+    // so the step that would only confirm it is skipped.
+    const double kappa = H.trace() / std::min({d0, d1, d2});
+    if (size < 1e-7 || kappa * size * size < 1e-12) {
       R = Rn;
       return true;
     }

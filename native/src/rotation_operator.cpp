@@ -1,8 +1,20 @@
 #include "edgedeform/rotation_operator.h"
 
+#include <stdexcept>
+#include <string>
+
+#include "edgedeform/parallel.h"
+
 namespace edgedeform {
 
+namespace {
+// Threads only for at least this many rows. KROWS_TBD
+constexpr int kMinParallelRows = 4096;
+constexpr int kRowsPerChunk = 512;
+}  // namespace
+
 RotationOperator::RotationOperator(const SparseMatrixRowMajor& H) {
+  lambda_.assign(static_cast<size_t>(H.cols() / 6), 1.0);
   offsets_.assign(1, 0);
   offsets_.reserve(static_cast<size_t>(H.rows()) + 1);
   term_.reserve(static_cast<size_t>(H.nonZeros() / 3));
@@ -22,21 +34,30 @@ RotationOperator::RotationOperator(const SparseMatrixRowMajor& H) {
   }
 }
 
+void RotationOperator::set_term_lambda(const Eigen::VectorXd& term_lambda) {
+  if (term_lambda.size() != static_cast<Eigen::Index>(lambda_.size()))
+    throw std::invalid_argument("term_lambda has " + std::to_string(term_lambda.size()) + " entries, expected " +
+                                std::to_string(lambda_.size()) + " (one per term)");
+  lambda_.assign(term_lambda.data(), term_lambda.data() + term_lambda.size());
+}
+
 void RotationOperator::apply(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
                              const Eigen::MatrixXd& c, Eigen::MatrixXd& y) const {
   const int n = rows();
   y.resize(n, 3);
-#pragma omp parallel for schedule(dynamic, 1024) if (n > 4096)
-  for (int r = 0; r < n; ++r) {
-    Eigen::Vector3d sum = c.row(r).transpose();
-    for (int b = offsets_[static_cast<size_t>(r)]; b < offsets_[static_cast<size_t>(r) + 1]; ++b) {
-      const int t = term_[static_cast<size_t>(b)];
-      const double* h = &coef_[6 * static_cast<size_t>(b)];
-      const Eigen::Vector3d g(h[0] + scale(t) * h[3], h[1] + scale(t) * h[4], h[2] + scale(t) * h[5]);
-      sum.noalias() += rotation[static_cast<size_t>(t)] * g;
+  parallel_for(n, kRowsPerChunk, kMinParallelRows, [&](int begin, int end) {
+    for (int r = begin; r < end; ++r) {
+      Eigen::Vector3d sum = c.row(r).transpose();
+      for (int b = offsets_[static_cast<size_t>(r)]; b < offsets_[static_cast<size_t>(r) + 1]; ++b) {
+        const int t = term_[static_cast<size_t>(b)];
+        const double* h = &coef_[6 * static_cast<size_t>(b)];
+        const double rigid = lambda_[static_cast<size_t>(t)], smooth = (1.0 - rigid) * scale(t);
+        const Eigen::Vector3d g(rigid * h[0] + smooth * h[3], rigid * h[1] + smooth * h[4], rigid * h[2] + smooth * h[5]);
+        sum.noalias() += rotation[static_cast<size_t>(t)] * g;
+      }
+      y.row(r) = sum.transpose();
     }
-    y.row(r) = sum.transpose();
-  }
+  });
 }
 
 }  // namespace edgedeform

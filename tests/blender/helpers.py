@@ -26,7 +26,7 @@ import numpy as np  # noqa: E402
 from mathutils import Matrix, Vector  # noqa: E402
 
 import edgedeform as ed  # noqa: E402
-import edgedeform.mesh_io  # noqa: E402,F401  (ed.mesh_io)
+import edgedeform.mesh_files  # noqa: E402,F401  (ed.mesh_files)
 import edge_deform  # noqa: E402
 from edge_deform import session  # noqa: E402
 
@@ -40,7 +40,7 @@ def register():
 
 def load(name):
     """(V, F) of a mesh in tests/data, read by the package (file vertex order)."""
-    return ed.mesh_io.read_mesh(os.path.join(DATA, name))
+    return ed.mesh_files.read_mesh(os.path.join(DATA, name))
 
 
 def make_object(name, V, faces):
@@ -60,6 +60,21 @@ def activate(ob):
             other.select_set(False)
     bpy.context.view_layer.objects.active = ob
     ob.select_set(True)
+
+
+def clear_edge_face_selection(mesh):
+    """Deselect every edge and face (the vertex selection is the caller's)."""
+    stored = [mesh.attributes[n] for n in (".select_edge", ".select_poly")
+              if n in getattr(mesh, "attributes", ())]
+    if stored:
+        # Blender 3.5+ keeps the selection in attributes, and a missing one means "nothing
+        # selected". Removing them also avoids a crash of Blender 5.0.1 when writing the
+        # edge selection of a mesh made by from_pydata.
+        for attribute in stored:
+            mesh.attributes.remove(attribute)
+        return
+    for items in (mesh.edges, mesh.polygons):
+        items.foreach_set("select", np.zeros(len(items), bool))
 
 
 def add_group(ob, name, idx, weight=1.0):
@@ -138,7 +153,88 @@ def expect_error(op, fragment="", **kw):
         assert fragment.lower() in str(exc).lower(), (fragment, str(exc))
         print("  expected error:", str(exc).strip())
         return str(exc)
-    raise AssertionError("%s returned %s instead of an error" % (op.idname_py(), result))
+    name = op.idname_py() if hasattr(op, "idname_py") else repr(op)
+    raise AssertionError("%s returned %s instead of an error" % (name, result))
+
+
+class Told:
+    """Records every message the add-on gives the user (op_common.tell) while active."""
+
+    def __enter__(self):
+        from edge_deform import op_common
+        self.messages = []
+        self._listen = lambda level, text: self.messages.append((level, text))
+        op_common.listeners.append(self._listen)
+        return self
+
+    def __exit__(self, *exc):
+        from edge_deform import op_common
+        op_common.listeners.remove(self._listen)
+        return False
+
+    def has(self, level, fragment):
+        return any(lv == level and fragment.lower() in text.lower()
+                   for lv, text in self.messages)
+
+
+def visible(ob):
+    """Positions as the user sees them (shape keys mixed; modifiers off for the count)."""
+    bpy.context.view_layer.update()
+    shown = [(m, m.show_viewport) for m in ob.modifiers]
+    for m, _ in shown:
+        m.show_viewport = False
+    try:
+        ev = ob.evaluated_get(bpy.context.evaluated_depsgraph_get())
+        me = ev.to_mesh()
+        try:
+            return positions(me).astype(np.float64)
+        finally:
+            ev.to_mesh_clear()
+    finally:
+        for m, state in shown:
+            m.show_viewport = state
+        bpy.context.view_layer.update()
+
+
+def key_offsets(ob):
+    """{name: key - the key it is relative to} for every non-reference shape key."""
+    keys = ob.data.shape_keys
+    return {kb.name: key_positions(ob, kb.name).astype(np.float64)
+            - key_positions(ob, kb.relative_key.name).astype(np.float64)
+            for kb in keys.key_blocks if kb != keys.reference_key}
+
+
+def mesh_fingerprint(ob):
+    """Everything a refused operation must leave bit-identical: vertices, every key's
+    positions, value and mute, the stored state, the rest attribute and the settings."""
+    me = ob.data
+    keys = None if me.shape_keys is None else [
+        (kb.name, key_positions(ob, kb.name).tobytes(), kb.value, kb.mute)
+        for kb in me.shape_keys.key_blocks]
+    st = me.edge_deform_state
+    rest = me.attributes.get(".edge_deform_rest")
+    rest_bytes = None
+    if rest is not None:
+        r = np.empty(len(me.vertices) * 3, np.float32)
+        rest.data.foreach_get("vector", r)
+        rest_bytes = r.tobytes()
+    s = ob.edge_deform
+    settings = (s.static_group, s.roi_group, s.stiffness_group, s.stiffness, s.domain,
+                s.output, s.shape_key_name,
+                tuple((h.vertex_group, h.controller.name if h.controller else None,
+                       tuple(map(tuple, h.rest_matrix))) for h in s.handles))
+    return (positions(me).tobytes(), keys,
+            tuple(getattr(st, f) for f in ("output", "output_key", "made_key_datablock",
+                                          "topology", "written", "base", "baked_keys")),
+            rest_bytes, settings)
+
+
+def refused(op, fragment, ob):
+    """The operator refuses with a message containing `fragment` and changes nothing."""
+    before = mesh_fingerprint(ob)
+    msg = expect_error(op, fragment)
+    assert mesh_fingerprint(ob) == before, "a refused operation changed the data"
+    return msg
 
 
 # ------------------------------------------------------------------ runner

@@ -41,13 +41,13 @@ def test_frame_handler():
     assert np.abs(out - rest).max() > 0.1
     # The playback path reuses the groups of the last sync (no geometry-nodes read) and
     # solves the same problem: handles on target, static at rest.
-    from edge_deform import engine, mesh_io
-    reader = mesh_io.read_group_weights
-    mesh_io.read_group_weights = None          # any group read would now fail
+    from edge_deform import lifecycle, mesh_arrays
+    reader = mesh_arrays.read_group_weights
+    mesh_arrays.read_group_weights = None          # any group read would now fail
     try:
-        reused = engine.deform(ob, warm=True, reuse_inputs=True)[1].positions
+        reused = lifecycle.deform(ob, warm=True, reuse_inputs=True)[1].positions
     finally:
-        mesh_io.read_group_weights = reader
+        mesh_arrays.read_group_weights = reader
     assert np.abs(reused[handle] - targets(ctrl, rest_matrix, rest, handle)).max() < 1e-5
     assert np.array_equal(reused[static], rest[static].astype(float))
     out = key_positions(ob).copy()
@@ -83,7 +83,9 @@ def test_bake():
 
 
 def test_snapshot_restores_bit_exact():
-    from edge_deform import mesh_io
+    """The modal tools' cancel: after writes in either output mode, with or without a
+    user's shape key, everything is back bit-exact (keys, value, stored state)."""
+    from edge_deform import lifecycle
     ob, ctrl, rest_matrix, handle, static, rest = setup()
     noise = np.random.default_rng(1).normal(size=rest.shape)
     for output in ('SHAPE_KEY', 'MESH'):
@@ -91,18 +93,26 @@ def test_snapshot_restores_bit_exact():
             ob.shape_key_clear()
             if had_key:
                 ob.shape_key_add(name="Basis")
-                kb = ob.shape_key_add(name="EdgeDeform")
+                kb = ob.shape_key_add(name="Mine")
                 kb.data.foreach_set("co", (rest + 0.01).ravel())
                 kb.value = 0.3
+            ob.edge_deform.output = output
             before_base = positions(ob.data).copy()
-            before_key = key_positions(ob).copy() if had_key else None
-            snap = mesh_io.OutputSnapshot(ob, "EdgeDeform")
-            mesh_io.write_output(ob, output, "EdgeDeform", rest + noise)
+            before_key = key_positions(ob, "Mine").copy() if had_key else None
+            snap = lifecycle.Snapshot(ob)
+            for _ in range(2):
+                lifecycle.prepare(ob).write(rest + noise)
+            shown = positions(ob.data) if output == 'MESH' else key_positions(ob)
+            assert np.abs(shown - (rest + noise)).max() < 1e-6, (output, had_key)
             snap.restore(ob)
+            snap.discard()
             assert np.array_equal(positions(ob.data), before_base), (output, had_key)
+            assert ob.data.edge_deform_state.output == 'NONE'
+            assert ob.data.attributes.get(lifecycle.REST_ATTRIBUTE) is None
             if had_key:
-                assert np.array_equal(key_positions(ob), before_key)
-                assert abs(ob.data.shape_keys.key_blocks["EdgeDeform"].value - 0.3) < 1e-7
+                assert ob.data.shape_keys.key_blocks.keys() == ["Basis", "Mine"]
+                assert np.array_equal(key_positions(ob, "Mine"), before_key)
+                assert abs(ob.data.shape_keys.key_blocks["Mine"].value - 0.3) < 1e-7
             else:
                 assert ob.data.shape_keys is None, (output, had_key)
 

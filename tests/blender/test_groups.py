@@ -6,11 +6,12 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from helpers import bpy, expect_error, load, make_object, np, positions, run  # noqa: E402
+from helpers import (bpy, clear_edge_face_selection, expect_error, load, make_object,  # noqa
+                     np, positions, run)
 
 
 def members(ob, name):
-    """Test-side reading of a vertex group: {vertex: weight} (independent of mesh_io)."""
+    """Test-side reading of a vertex group: {vertex: weight} (independent of mesh_arrays)."""
     vg = ob.vertex_groups[name]
     out = {}
     for v in ob.data.vertices:
@@ -27,8 +28,7 @@ def select(ob, idx):
     sel = np.zeros(len(ob.data.vertices), bool)
     sel[idx] = True
     ob.data.vertices.foreach_set("select", sel)
-    for items in (ob.data.edges, ob.data.polygons):   # else Edit Mode flushes them back
-        items.foreach_set("select", np.zeros(len(items), bool))
+    clear_edge_face_selection(ob.data)   # else Edit Mode flushes them back
     ob.data.update()
     bpy.ops.object.mode_set(mode='EDIT')
 
@@ -112,8 +112,8 @@ def test_assign_stiffness_presets():
     assert all(abs(w[i] - 1.0) < 1e-6 for i in c) and abs(w[40] - 0.8) < 1e-6
     assert abs(w[100] - 0.3) < 1e-6
     # The add-on reads the same weights in bulk.
-    from edge_deform import mesh_io
-    bulk = mesh_io.read_group_weights(ob, [s.stiffness_group])[s.stiffness_group]
+    from edge_deform import mesh_arrays
+    bulk = mesh_arrays.read_group_weights(ob, [s.stiffness_group])[s.stiffness_group]
     assert np.allclose(bulk, [w[i] for i in range(len(V))])
 
 

@@ -12,69 +12,11 @@ event loop handles each simulated event between steps.
 
 import os
 import sys
-import threading
-import time
-import traceback
-
-from mathutils import Euler
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from helpers import (OUT, bpy, key_positions, np, plane_with_end_groups,  # noqa: E402
-                     positions, register)
-
-STEP = 0.1  # seconds between steps: several 60 Hz ticks of the tools' timers
-
-
-def view3d():
-    win = bpy.context.window_manager.windows[0]
-    area = max((a for a in win.screen.areas if a.type == 'VIEW_3D'),
-               key=lambda a: a.width * a.height)
-    region = [r for r in area.regions if r.type == 'WINDOW'][0]
-    return win, area, region
-
-
-def override():
-    win, area, region = view3d()
-    return bpy.context.temp_override(window=win, area=area, region=region,
-                                     screen=win.screen)
-
-
-def center(dx=0, dy=0):
-    _, _, region = view3d()
-    return region.x + region.width // 2 + dx, region.y + region.height // 2 + dy
-
-
-def event(kind, value='PRESS', at=None, **mods):
-    win = view3d()[0]
-    x, y = at or center()
-    if kind == 'MOUSEMOVE':
-        value = 'NOTHING'
-    win.event_simulate(type=kind, value=value, x=x, y=y, **mods)
-
-
-def tap(kind, at=None, **mods):
-    event(kind, 'PRESS', at, **mods)
-    event(kind, 'RELEASE', at, **mods)
-
-
-def screenshot(name):
-    os.makedirs(OUT, exist_ok=True)
-    path = os.path.join(OUT, name)
-    with override():
-        bpy.ops.screen.screenshot(filepath=path)
-    print("screenshot:", path)
-
-
-def until(predicate, seconds=10.0):
-    """Yield to the event loop until `predicate()` holds (a loaded machine may be slow)."""
-    start = time.time()
-    while time.time() - start < seconds:
-        try:
-            if predicate():
-                return
-        except (KeyError, AttributeError, ReferenceError):
-            pass
-        yield
+from helpers import bpy, key_positions, np, positions  # noqa: E402
+from window_harness import (center, event, main, override, screenshot,  # noqa: E402
+                            setup, tap, until)
 
 
 def plane():
@@ -83,26 +25,6 @@ def plane():
 
 def ctrl():
     return bpy.data.objects["H_ctrl"]
-
-
-def setup():
-    register()
-    for ob in list(bpy.data.objects):
-        bpy.data.objects.remove(ob)
-    ob, _, handle, static = plane_with_end_groups()
-    # A three-quarter view (the plane lies in XZ) with the add-on's sidebar tab open.
-    win, area, region = view3d()
-    space = area.spaces.active
-    space.show_region_ui = True
-    space.region_3d.view_perspective = 'PERSP'
-    space.region_3d.view_rotation = Euler((1.2, 0.0, 0.5)).to_quaternion()
-    try:
-        [r for r in area.regions if r.type == 'UI'][0].active_panel_category = "Edge Deform"
-    except (AttributeError, TypeError):
-        pass
-    with override():
-        bpy.ops.view3d.view_all()
-    return handle, static
 
 
 def steps():
@@ -297,47 +219,4 @@ def steps():
     print("grab: ok")
 
 
-def watchdog(seconds=240):
-    """If the event loop itself stalls, timers never run: end the process from a thread
-    (no bpy here) so the test fails instead of hanging."""
-    def fire():
-        print("WINDOW TEST STALLED after %d s (last step: %s)" % (seconds, LAST[0]))
-        sys.stdout.flush()
-        os._exit(2)
-    timer = threading.Timer(seconds, fire)
-    timer.daemon = True
-    timer.start()
-
-
-LAST = ["start"]
-
-
-def main():
-    watchdog()
-    gen = steps()
-    started = time.time()
-
-    def tick():
-        try:
-            frame = gen.gi_frame
-            LAST[0] = "line %d" % frame.f_lineno if frame is not None else "start"
-            next(gen)
-        except StopIteration:
-            print("ALL WINDOW TESTS PASSED")
-            sys.stdout.flush()
-            os._exit(0)
-        except Exception:
-            traceback.print_exc()
-            print("WINDOW TEST FAILED")
-            sys.stdout.flush()
-            os._exit(1)
-        if time.time() - started > 120:
-            print("WINDOW TEST TIMED OUT")
-            sys.stdout.flush()
-            os._exit(1)
-        return STEP
-
-    bpy.app.timers.register(tick, first_interval=1.0)
-
-
-main()
+main(steps)

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include "edgedeform/deformer.h"
+#include "edgedeform/errors.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;
@@ -145,4 +146,40 @@ TEST(Deformer, RegionOfInterestLimitsTheActiveTerms) {
   for (int v : roi) in_roi[v] = true;
   for (int v = 0; v < z.size(); ++v)
     if (!in_roi[v]) EXPECT_EQ(r.positions.row(v), s.mesh.V.row(v));
+}
+
+TEST(Deformer, InterruptStopsBetweenIterationsAndLeavesItUsable) {
+  LiftSetup s;
+  Deformer d(s.mesh.V, s.mesh.F, Domain::Edge);
+  d.set_constraints({s.high, s.low, std::nullopt});
+  RowMatrixX3d targets = s.rows(s.mesh.V, s.high);
+  targets.col(2).array() += 5.0;
+  SolveOptions o;
+  o.max_iterations = 1000;
+  o.tolerance = 0.0;
+  int asked = 0;
+  o.interrupt_requested = [&] { return ++asked == 3; };
+  EXPECT_THROW(d.solve(targets, o), SolveInterrupted);
+  EXPECT_EQ(asked, 3);
+  const SolveResult r = d.solve(targets, SolveOptions{});
+  EXPECT_EQ(r.iterations, SolveOptions{}.max_iterations);
+  EXPECT_EQ(s.rows(r.positions, s.high), targets);
+  EXPECT_TRUE(r.positions.allFinite());
+}
+
+TEST(Deformer, TargetsThatWouldOverflowAreRejectedBeforeAnyWork) {
+  LiftSetup s;
+  Deformer d(s.mesh.V, s.mesh.F, Domain::Edge);
+  d.set_constraints({s.high, s.low, std::nullopt});
+  RowMatrixX3d targets = s.rows(s.mesh.V, s.high);
+  targets(1, 0) = 1e308;
+  try {
+    d.solve(targets, SolveOptions{});
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("targets[1] = (1e+308", 0), 0u) << e.what();
+  }
+  EXPECT_EQ(d.analyses(), 0);  // rejected before the factorization
+  const RowMatrixX3d far = RowMatrixX3d::Constant(s.mesh.V.rows(), 3, 1e200);
+  EXPECT_THROW(Deformer(far + s.mesh.V * 1e190, s.mesh.F, Domain::Edge), std::invalid_argument);
 }

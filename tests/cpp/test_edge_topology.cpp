@@ -37,13 +37,19 @@ TEST(EdgeTopology, EulerCountOnAGrid) {
   EXPECT_EQ(boundary, 2 * (6 - 1) + 2 * (5 - 1));
 }
 
-TEST(EdgeTopology, NonManifoldEdgeIsNamed) {
+TEST(EdgeTopology, NonManifoldEdgeKeepsAllItsFaces) {
+  // Three triangles on edge (0, 1): a fin.
   RowMatrixX3i F(3, 3);
   F << 0, 1, 2, 1, 0, 3, 0, 1, 4;
-  try {
-    build_edge_topology(F, 5);
-    FAIL() << "expected a non-manifold error";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("(0, 1)"), std::string::npos);
+  const auto t = build_edge_topology(F, 5);
+  ASSERT_EQ(t.edges.rows(), 7);
+  EXPECT_EQ(t.edges(0, 0), 0);
+  EXPECT_EQ(t.edges(0, 1), 1);
+  EXPECT_EQ(t.face_count(0), 3);
+  for (int f = 0; f < 3; ++f) {
+    int opposite = -1;  // the corner opposite edge (0, 1)
+    for (int k = 0; k < 3; ++k)
+      if (F(f, k) != 0 && F(f, k) != 1) opposite = k;
+    EXPECT_EQ(t.face_edges(f, opposite), 0) << "face " << f;
   }
 }

@@ -50,6 +50,23 @@ inline TestMesh tetrahedron() {
   return m;
 }
 
+// A grid(nx, ny) with a fin: a vertical strip of triangles standing on the grid's middle row
+// of edges, so that each of those edges is shared by three faces (two of the grid, one of
+// the fin). Fin vertices are appended after the grid's.
+inline TestMesh grid_with_fin(int nx, int ny) {
+  TestMesh m = grid(nx, ny);
+  const int row = ny / 2, n0 = static_cast<int>(m.V.rows()), f0 = static_cast<int>(m.F.rows());
+  m.V.conservativeResize(n0 + nx, 3);
+  for (int i = 0; i < nx; ++i) m.V.row(n0 + i) << double(i) / (nx - 1), double(row) / (ny - 1), 0.3;
+  m.F.conservativeResize(f0 + 2 * (nx - 1), 3);
+  for (int i = 0; i + 1 < nx; ++i) {
+    const int a = row * nx + i, b = a + 1, c = n0 + i, d = c + 1;
+    m.F.row(f0 + 2 * i) << a, b, d;
+    m.F.row(f0 + 2 * i + 1) << a, d, c;
+  }
+  return m;
+}
+
 // Reads the vertex and triangle lines of an OFF/COFF file in tests/data.
 inline TestMesh read_off(const std::string& name) {
   std::ifstream in(std::string(EDGEDEFORM_TEST_DATA) + "/" + name);

@@ -48,3 +48,18 @@ TEST(Metrics, HandleErrorIsTheLargestMiss) {
   EXPECT_DOUBLE_EQ(q.handle_error, 0.25);
   EXPECT_THROW(compute_metrics(m.V, m.F, m.V.topRows(3), {}, RowMatrixX3d(0, 3)), std::invalid_argument);
 }
+
+TEST(Metrics, FinFoldCountsOnlyTheFinsHinges) {
+  const auto m = test::grid_with_fin(6, 5);
+  EXPECT_EQ(compute_metrics(m.V, m.F, m.V, {}, RowMatrixX3d(0, 3)).mean_dihedral_change, 0.0);
+  // Fold the fin flat onto the grid: the hinges with a fin face change by 90 degrees, the
+  // grid's own hinges not at all, so the mean lies strictly between.
+  RowMatrixX3d folded = m.V;
+  for (Eigen::Index v = 6 * 5; v < folded.rows(); ++v) {
+    folded(v, 1) += folded(v, 2);
+    folded(v, 2) = 0.0;
+  }
+  const QualityMetrics q = compute_metrics(m.V, m.F, folded, {}, RowMatrixX3d(0, 3));
+  EXPECT_GT(q.mean_dihedral_change, 0.1);
+  EXPECT_LT(q.mean_dihedral_change, 3.14159265358979323846 / 2);
+}

@@ -60,6 +60,22 @@ TEST(NodeGraph, InteriorEdgeNodesHaveFourNeighbours) {
   }
 }
 
+TEST(NodeGraph, NonManifoldEdgeNodeJoinsTheOtherEdgesOfAllItsFaces) {
+  const auto m = test::grid_with_fin(6, 5);
+  const auto topo = build_edge_topology(m.F, static_cast<int>(m.V.rows()));
+  const auto g = build_node_graph(m.V, m.F, topo, Domain::Edge, /*clamp_negative_weights=*/false);
+  int fin_edges = 0;
+  for (int i = 0; i < g.n_nodes; ++i) {
+    EXPECT_EQ(g.offsets[i + 1] - g.offsets[i], 2 * topo.face_count(i)) << "node " << i;
+    fin_edges += topo.face_count(i) == 3;
+  }
+  EXPECT_EQ(fin_edges, 6 - 1);
+  // Each arc weight is still 1/2 cot of the face angle between the two edges: the rows of
+  // L sum to zero and the weights of one face are those of a lone triangle.
+  const Eigen::VectorXd rows = g.laplacian() * Eigen::VectorXd::Ones(g.n_nodes);
+  EXPECT_LT(rows.cwiseAbs().maxCoeff(), 1e-12);
+}
+
 TEST(NodeGraph, LaplacianIsSymmetricWithZeroRowSums) {
   const auto m = test::grid(6, 6, 0.5);
   for (Domain d : {Domain::Edge, Domain::Primal}) {

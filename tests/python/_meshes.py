@@ -5,7 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
-from edgedeform.mesh_io import read_mesh
+from edgedeform.mesh_files import read_mesh
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 

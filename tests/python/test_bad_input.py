@@ -45,14 +45,25 @@ def test_bad_domain_rejected():
 
 
 @pytest.mark.parametrize("domain", ["edge", "primal"])
-def test_non_manifold_edge_rejected(domain):
-    V, F = load(PLANE)
-    # a third triangle on an interior edge (a, b) of the plane, through a new vertex
-    a, b = F[0, 0], F[0, 1]
-    V2 = np.vstack([V, V[[a, b]].mean(axis=0) + [0.0, 0.3, 0.0]])
-    F2 = np.vstack([F, [[a, b, len(V)]]])
-    with pytest.raises(ValueError, match=r"(?i)manifold"):
-        ed.Deformer(V2, F2, domain=domain)
+@pytest.mark.parametrize("make, words", [
+    (lambda V: np.zeros_like(V) + [1.0, 2.0, 3.0],
+     r"^the mesh is degenerate: all its 829 vertices are at one point \(1, 2, 3\)$"),
+    (lambda V: np.outer(V[:, 0], [1.0, 0.0, 0.0]),
+     r"^the mesh is degenerate: every face has zero area \(its vertices lie on one line\)$"),
+    (lambda V: np.outer(V[:, 0], [1.0, 2.0, -0.5]) + 7.0,
+     r"^the mesh is degenerate: every face has zero area"),
+], ids=["one_point", "x_axis", "skew_line"])
+def test_degenerate_whole_mesh_named(make, words, domain):
+    """Not "CHOLMOD could not analyze the matrix (status -4)" (issue 10)."""
+    V, F = load(SPOT)
+    with pytest.raises(ValueError, match=words):
+        ed.Deformer(make(V), F, domain=domain)
+
+
+def test_huge_mesh_coordinates_rejected():
+    V, F = load(SPOT)
+    with pytest.raises(ValueError, match=r"^V\[\d+\] = .* too far to solve without overflow"):
+        ed.Deformer(V * 1e200, F)
 
 
 # ---- constraints and stiffness ------------------------------------------------------
@@ -120,6 +131,9 @@ def test_bad_stiffness_rejected_and_deformer_usable(spot, lam, words):
     ("targets_inf", r"(?i)target|inf|finite"),
     ("initial_shape", r"(?i)initial|shape"),
     ("initial_nan", r"(?i)initial|nan|finite"),
+    ("targets_1e308", r"^targets\[2\] = \(1e\+308, .* too far to solve without overflow"),
+    ("targets_1e200", r"^targets\[0\] = .* too far to solve without overflow"),
+    ("initial_1e300", r"^initial\[3\] = .* too far to solve without overflow"),
 ])
 def test_bad_solve_arguments_rejected_and_deformer_usable(spot, case, words):
     V, F, handles, static, targets = spot
@@ -139,6 +153,13 @@ def test_bad_solve_arguments_rejected_and_deformer_usable(spot, case, words):
         kw["initial"] = V[:-1]
     elif case == "initial_nan":
         X0 = V.copy(); X0[10, 0] = np.nan
+        kw["initial"] = X0
+    elif case == "targets_1e308":  # finite, but its squared distances overflow (issue 10)
+        t = targets.copy(); t[2, 0] = 1e308
+    elif case == "targets_1e200":
+        t = targets * 1e200
+    elif case == "initial_1e300":
+        X0 = V.copy(); X0[3, 1] = -1e300
         kw["initial"] = X0
     with pytest.raises(ValueError, match=words):
         d.solve(t, **kw)

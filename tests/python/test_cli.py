@@ -8,7 +8,7 @@ import sys
 import numpy as np
 import pytest
 
-from edgedeform.mesh_io import read_mesh
+from edgedeform.mesh_files import read_mesh
 from _meshes import DATA, PLANE, SPOT, diag, lift, load
 
 
@@ -168,19 +168,80 @@ def test_bad_stiffness_file(tmp_path, spot_job):
     assert not (tmp_path / "o.obj").exists()
 
 
-def test_non_manifold_mesh_reports_core_error(tmp_path):
-    """An error found by the core (not the CLI's own checks) is reported the same way."""
+def test_non_manifold_mesh_deforms(tmp_path):
+    """A third triangle on an interior edge of the plane (a fin): deformed, not refused."""
     V, F = load(PLANE)
     a, b = F[0, 0], F[0, 1]
     V2 = np.vstack([V, V[[a, b]].mean(axis=0) + [0.0, 0.3, 0.0]])
     F2 = np.vstack([F, [[a, b, len(V)]]])
     mesh = tmp_path / "nm.obj"
-    mesh.write_text("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in V2) +
-                    "".join(f"f {i + 1} {j + 1} {k + 1}\n" for i, j, k in F2))
+    mesh.write_text(_obj_text(V2, F2))
+    target = V2[0] + [0.0, 0.1, 0.0]
+    c = write_constraints(tmp_path / "c.json", [0], [5], [target])
+    p = run("deform", mesh, "--constraints", c, "--out", tmp_path / "o.obj")
+    assert p.returncode == 0, p.stderr
+    X, _ = read_mesh(tmp_path / "o.obj")
+    assert np.allclose(X[0], target) and np.allclose(X[5], V2[5])
+    assert np.abs(X[-1] - V2[-1]).max() > 0.0  # the fin's tip moved with its edge
+
+
+def _obj_text(V, F):
+    return ("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in V) +
+            "".join(f"f {i + 1} {j + 1} {k + 1}\n" for i, j, k in F))
+
+
+def test_degenerate_mesh_reports_core_error(tmp_path):
+    """An error found by the core (not the CLI's own checks) is reported the same way, and
+    names what is wrong with the mesh (not a CHOLMOD status)."""
+    V, F = load(PLANE)
+    mesh = tmp_path / "point.obj"
+    mesh.write_text(_obj_text(np.zeros_like(V), F))
     c = write_constraints(tmp_path / "c.json", [0], [5], [[0.0, 0.1, 0.0]])
     p = run("deform", mesh, "--constraints", c, "--out", tmp_path / "o.obj")
-    assert p.returncode != 0 and "manifold" in p.stderr.lower(), p.stderr
-    assert "Traceback" not in p.stderr and not (tmp_path / "o.obj").exists()
+    assert p.returncode == 1, p.stderr
+    assert f"all its {len(V)} vertices are at one point" in p.stderr, p.stderr
+    assert "CHOLMOD" not in p.stderr and "Traceback" not in p.stderr
+    assert not (tmp_path / "o.obj").exists()
+
+
+@pytest.mark.parametrize("value", [1e308, -1e200])
+def test_overflowing_target_rejected_nothing_written(tmp_path, spot_job, value):
+    V, F, handles, static, targets, _ = spot_job
+    targets = targets.copy()
+    targets[1, 2] = value
+    c = write_constraints(tmp_path / "c.json", handles, static, targets)
+    p = run("deform", DATA / SPOT, "--constraints", c, "--out", tmp_path / "o.obj")
+    assert p.returncode == 1, p.stderr
+    assert "targets[1]" in p.stderr and "overflow" in p.stderr, p.stderr
+    assert not (tmp_path / "o.obj").exists()
+
+
+def test_quads_uvs_and_normals_survive(tmp_path):
+    """Issue 10: a quad mesh with vt/vn came back triangulated and bare. Now every line but
+    v and vn is unchanged, and the report says the normals were recomputed."""
+    n = 6
+    i, j = np.meshgrid(np.arange(n), np.arange(n))
+    V = np.stack([i.ravel() / (n - 1), j.ravel() / (n - 1), np.zeros(n * n)], axis=1)
+    lines = ["mtllib m.mtl\n", "o sheet\n"] + [f"v {x!r} {y!r} {z!r}\n" for x, y, z in V]
+    lines += [f"vt {x!r} {y!r}\n" for x, y, _ in V] + ["vn 0 0 1\n", "usemtl cloth\n"]
+    lines += [f"f {a}/{a}/1 {a + 1}/{a + 1}/1 {a + n + 1}/{a + n + 1}/1 {a + n}/{a + n}/1\n"
+              for a in (1 + b * n + c for b in range(n - 1) for c in range(n - 1))]
+    src = tmp_path / "sheet.obj"
+    src.write_text("".join(lines))
+    handles = np.arange(n * n - n, n * n)  # the row at y = 1, lifted
+    targets = V[handles] + [0.0, 0.0, 0.3]
+    c = write_constraints(tmp_path / "c.json", handles, np.arange(n), targets)
+    p = run("deform", src, "--constraints", c, "--out", tmp_path / "o.obj")
+    assert p.returncode == 0, p.stderr
+    report = json.loads(p.stdout)
+    assert report["notes"] == ["normals (vn) recomputed from the deformed faces"]
+    out = (tmp_path / "o.obj").read_text().splitlines(keepends=True)
+    keep = [ln for ln in lines if ln.split()[0] not in ("v", "vn")]
+    assert [ln for ln in out if ln.split()[0] not in ("v", "vn")] == keep
+    X, _ = read_mesh(tmp_path / "o.obj")
+    assert np.allclose(X[handles], targets)
+    vn = [list(map(float, ln.split()[1:])) for ln in out if ln.startswith("vn ")]
+    assert len(vn) == 1 and vn[0][1] < -0.05  # the sheet tilted towards -y as it lifted
 
 
 def test_help_and_usage():

@@ -51,16 +51,29 @@ ConstrainedSystem build_constrained_system(const NodeGraph& graph, const RowMatr
                                            const std::vector<bool>& referenced,
                                            const ConstraintSets& sets);
 
+// Elimination order of the free vertices (their local ids, 0 .. nf-1) by `rank` (#V, one
+// rank per global vertex, -1 for none); empty when some free vertex has no rank. A subset
+// of a fill-reducing order eliminated in the same order never fills more than the whole
+// did, so a constraint set that frees only vertices an earlier set freed (a handle group
+// added, then removed again) is factored without computing a new ordering.
+std::vector<int> free_vertex_order(const ConstrainedSystem& system, const std::vector<int>& rank);
+
 // The lambda-dependent operators.
 struct AssembledSystem {
   SparseMatrix A;                 // nf x nf, symmetric
-  RotationOperator H;             // the H Z product, nf x (#terms rotations and scales)
+  RotationOperator H;             // the H Z product, nf x (#terms rotations and scales); lambda-free
+                                  // coefficients, weighed by term_lambda
   SparseMatrix K_fixed;           // J1f^T W1 J1c + J2f^T W2 J2c: A's coupling to x_c (nf x nc)
   Eigen::VectorXd term_lambda;    // #terms
   bool laplacian_term = false;    // some term has lambda < 1
 };
 
 AssembledSystem assemble_system(const ConstrainedSystem& system, const Eigen::VectorXd& node_lambda);
+
+// The same system at other stiffness: A, K_fixed and the operator's per-term lambda are
+// replaced; H's coefficients and the pattern of A (for lambda < 1 somewhere) stay.
+void update_stiffness(AssembledSystem& assembled, const ConstrainedSystem& system,
+                      const Eigen::VectorXd& node_lambda);
 
 
 }  // namespace edgedeform

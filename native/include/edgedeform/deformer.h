@@ -3,6 +3,7 @@
 // leaves the Deformer as it was.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -12,6 +13,7 @@
 #include "edgedeform/constrained_system.h"
 #include "edgedeform/edge_topology.h"
 #include "edgedeform/node_graph.h"
+#include "edgedeform/seams.h"
 #include "edgedeform/sparse_cholesky.h"
 
 namespace edgedeform {
@@ -21,6 +23,10 @@ struct SolveOptions {
   double tolerance = 1e-4;
   bool warm_start = true;
   std::optional<RowMatrixX3d> initial;  // start with a local step on these positions
+  // Asked once per iteration (called from the solving thread); returning true stops the
+  // solve with SolveInterrupted. The Python bindings check for Ctrl-C here, so the core
+  // needs no Python.
+  std::function<bool()> interrupt_requested;
 };
 
 struct SolveResult {
@@ -34,6 +40,12 @@ struct SolveResult {
   double local_ms = 0.0, rhs_ms = 0.0, solve_ms = 0.0;  // totals over the iterations
   int free_vertices = 0;
   int active_nodes = 0;
+};
+
+// Positions farther than `limit` (per coordinate) from `center` would overflow the energies.
+struct SafeRange {
+  Eigen::RowVector3d center = Eigen::RowVector3d::Zero();
+  double limit = 0.0;
 };
 
 class Deformer {
@@ -59,9 +71,13 @@ class Deformer {
   const Eigen::VectorXd& node_lambda() const { return node_lambda_; }
   const Eigen::VectorXd& vertex_lambda() const { return vertex_lambda_; }
   int analyses() const { return cholesky_.analyses(); }
+  int orderings() const { return cholesky_.orderings(); }
+  double factor_nonzeros() const { return cholesky_.factor_nonzeros(); }
 
  private:
   void ensure_factored(SolveResult& result);
+  // Keeps the elimination order CHOLMOD chose for the current free vertices.
+  void remember_order();
   // Rotations, scales and SVD frames the first global step starts from (see SolveOptions).
   LocalFit starting_fit(const SolveOptions& options);
   // Stores the last fit per global node, before the terms change with the constraints.
@@ -73,10 +89,17 @@ class Deformer {
   EdgeTopology topology_;
   NodeGraph graph_;
   std::vector<bool> referenced_;
+  SafeRange safe_range_;  // targets and initial positions are checked against it
+  SeamCopies seams_;      // coincident vertices: a solve that tears them apart warns
+  double seam_tolerance_ = 0.0;  // 1e-6 of the bounding-box diagonal: a visible gap
   Eigen::VectorXd vertex_lambda_;
   Eigen::VectorXd node_lambda_;
   std::unique_ptr<ConstrainedSystem> system_;
-  std::unique_ptr<AssembledSystem> assembled_;  // null when stiffness or constraints changed
+  std::unique_ptr<AssembledSystem> assembled_;  // null when the constraints changed
+  bool stiffness_changed_ = false;              // assembled_ holds another lambda
+  // Elimination rank per vertex (-1: never free) from the last fill-reducing ordering;
+  // constraint sets freeing only ranked vertices reuse it (free_vertex_order).
+  std::vector<int> vertex_rank_;
   SparseCholesky cholesky_;
   // Warm start. The fit of the last result, per term of the current system (live editing
   // reuses it as it is), and per global node once the constraints change.

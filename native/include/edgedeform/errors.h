@@ -11,4 +11,10 @@ struct FactorizationError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// SolveOptions::interrupt_requested returned true: the solve stopped between iterations.
+// The Deformer stays usable; the next solve does not warm-start from the interrupted one.
+struct SolveInterrupted : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace edgedeform

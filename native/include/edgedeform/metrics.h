@@ -11,7 +11,9 @@ struct QualityMetrics {
   double handle_error = 0.0;          // max |x_h - target|
   double mean_edge_strain = 0.0;      // |l - l0| / l0 over mesh edges
   double max_edge_strain = 0.0;
-  double mean_dihedral_change = 0.0;  // mean |theta - theta0| (radians) over interior edges
+  // mean |theta - theta0| (radians) over every pair of faces at an edge (one pair at an
+  // interior edge, three at a fin's edge)
+  double mean_dihedral_change = 0.0;
   double arap_energy = 0.0;           // classic primal ARAP (clamped cotangent spokes)
   double arap_energy_normalized = 0.0;  // arap_energy / sum_ij w_ij |e0_ij|^2
 };

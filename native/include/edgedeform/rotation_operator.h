@@ -1,9 +1,10 @@
 // The constant sparse operator that maps the local step's rotations and scales to the right
 // side of the global step. Its blocks pair a free vertex v with a term t whose energy
-// touches v, and hold six numbers (h_R, h_T), so that
-//     rhs_v = c_v + sum_blocks R_t (h_R + s_t h_T).
+// touches v, and hold six numbers (h_R, h_T) that do not depend on the stiffness, so that
+//     rhs_v = c_v + sum_blocks R_t (lambda_t h_R + (1 - lambda_t) s_t h_T).
 // This is H Z of constrained_system.h with H's six columns per term folded into one block:
-// one product per iteration, and no stacked Z to build.
+// one product per iteration, and no stacked Z to build; a change of lambda only replaces the
+// per-term lambda_t.
 #pragma once
 
 #include <vector>
@@ -15,8 +16,13 @@ namespace edgedeform {
 class RotationOperator {
  public:
   RotationOperator() = default;
-  // From H (rows x 6 #terms; column 6t+k carries R_t(.,k), 6t+3+k carries s_t R_t(.,k)).
+  // From H at lambda = 1 for the 1-form columns and lambda = 0 for the Laplacian ones
+  // (rows x 6 #terms; column 6t+k carries R_t(.,k), 6t+3+k carries s_t R_t(.,k)). Every
+  // lambda_t starts at 1.
   explicit RotationOperator(const SparseMatrixRowMajor& H);
+
+  // lambda_t of every term (#terms); throws std::invalid_argument on a size mismatch.
+  void set_term_lambda(const Eigen::VectorXd& term_lambda);
 
   // y = c + (the operator applied to R, s); rows in parallel. c and y are (rows x 3).
   void apply(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
@@ -24,11 +30,13 @@ class RotationOperator {
 
   int rows() const { return static_cast<int>(offsets_.size()) - 1; }
   int blocks() const { return static_cast<int>(term_.size()); }
+  int terms() const { return static_cast<int>(lambda_.size()); }
 
  private:
   std::vector<int> offsets_{0};  // blocks of row r: offsets_[r] .. offsets_[r+1)
   std::vector<int> term_;        // per block
   std::vector<double> coef_;     // per block: h_R (3), then h_T (3)
+  std::vector<double> lambda_;   // per term
 };
 
 }  // namespace edgedeform

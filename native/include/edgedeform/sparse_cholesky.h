@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "edgedeform/types.h"
 
@@ -20,11 +21,20 @@ class SparseCholesky {
   // the pattern differs from the last call. Throws FactorizationError if A is not positive
   // definite; the object is then empty until the next successful factorize.
   void factorize(const SparseMatrix& A);
+  // The same with a given elimination order (order[k] = the column eliminated k-th), so that
+  // a new pattern costs only the symbolic factorization, not a new ordering (CHOLMOD; the
+  // Eigen fallback orders by itself and ignores it).
+  void factorize(const SparseMatrix& A, const std::vector<int>& order);
+  // The elimination order of the current analysis (order[k] = column eliminated k-th);
+  // empty before the first analysis and in the Eigen fallback.
+  std::vector<int> order() const;
   // Solves A X = B for a factored A. B and X are (n x k), column-major.
   void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X);
 
   bool factored() const;
-  int analyses() const;  // how many symbolic analyses so far (tests check reuse)
+  int analyses() const;   // how many symbolic analyses so far (tests check reuse)
+  int orderings() const;  // how many of them computed a fill-reducing order
+  double factor_nonzeros() const;  // entries of L from the last analysis (0 before any)
   static const char* backend();
 
  private:

@@ -4,11 +4,14 @@ A local/global solver that blends a rigid 1-form energy (weight lambda) with a r
 scale-aware Laplacian energy (weight 1 - lambda), with lambda per vertex. See docs/api.md.
 """
 
+import numpy as np
+
 from ._core import FactorizationError, SolveResult, build_info
 from ._core import Deformer as _NativeDeformer
 from ._core import metrics
+from .welding import Welding
 
-__all__ = ["Deformer", "SolveResult", "FactorizationError", "build_info", "metrics"]
+__all__ = ["Deformer", "SolveResult", "FactorizationError", "Welding", "build_info", "metrics"]
 __version__ = build_info()["version"]
 
 
@@ -22,8 +25,94 @@ def _sparse(coo):
     return scipy.sparse.csr_matrix((vals, (rows, cols)), shape=shape)
 
 
+def _points(V):
+    try:
+        V = np.asarray(V, dtype=np.float64)
+    except (TypeError, ValueError):
+        return None
+    return V if V.ndim == 2 and V.shape[1] == 3 else None
+
+
+class _WeldedResult:
+    """A SolveResult of the welded mesh, with positions for every original vertex."""
+
+    def __init__(self, result, welding):
+        self._result = result
+        self.positions = welding.unweld(result.positions)
+
+    def __getattr__(self, name):
+        return getattr(self._result, name)
+
+    def __repr__(self):
+        return repr(self._result)
+
+
 class Deformer(_NativeDeformer):
-    """Deformer(V, F, domain="edge", clamp_negative_weights=True). See docs/api.md."""
+    """Deformer(V, F, domain="edge", clamp_negative_weights=True, weld=False). See docs/api.md.
+
+    weld=True solves with vertices that share a position (unwelded seams) merged, and gives
+    every copy the merged vertex's position; indices, stiffness and positions stay those of
+    the mesh as given. Inspection (edges, arcs, weights, ...) then describes the welded mesh.
+    """
+
+    def __init__(self, V, F, domain="edge", clamp_negative_weights=True, weld=False):
+        points = _points(V) if weld else None
+        self._welding = Welding(points, F) if points is not None else None
+        self._handles = None
+        if self._welding is not None:
+            V, F = self._welding.mesh(points, F)
+        super().__init__(V, F, domain, clamp_negative_weights)
+
+    @property
+    def n_vertices(self):
+        return super().n_vertices if self._welding is None else self._welding.n_original
+
+    @property
+    def welded_copies(self):
+        """How many vertices weld=True merged into a copy of theirs (0 without weld)."""
+        return 0 if self._welding is None else self._welding.copies
+
+    def set_constraints(self, handles, static=None, roi=None):
+        w = self._welding
+        if w is None:
+            return super().set_constraints(handles, static, roi)
+        h, s = w.indices(handles, "handles"), w.indices(static, "static")
+        if h is not None and s is not None and h.dtype.kind in "iu" and s.dtype.kind in "iu":
+            both = np.intersect1d(h, s)
+            if both.size:
+                raise ValueError(f"vertices {w.first[both[:5]].tolist()} are welded copies of both a "
+                                 f"handle and a static vertex")
+        super().set_constraints(h, s, w.indices(roi, "roi"))
+        self._handles = np.asarray(handles).reshape(-1)
+
+    def set_stiffness(self, stiffness):
+        w = self._welding
+        if w is None or np.ndim(stiffness) == 0:
+            return super().set_stiffness(stiffness)
+        return super().set_stiffness(w.vertex_values(stiffness))
+
+    def _rows(self, X, name):
+        X = np.asarray(X, dtype=np.float64)
+        if X.ndim != 2 or len(X) != self._welding.n_original:
+            raise ValueError(f"{name} has shape {X.shape}, expected ({self._welding.n_original}, 3)")
+        return X[self._welding.first]
+
+    def solve(self, targets, *args, **kwargs):
+        w = self._welding
+        if w is None:
+            return super().solve(targets, *args, **kwargs)
+        if self._handles is None:
+            raise ValueError("set_constraints(handles=...) must be called before solve")
+        T = np.asarray(targets, dtype=np.float64)
+        if T.ndim != 2 or len(T) != len(self._handles):
+            raise ValueError(f"targets has shape {T.shape}, expected one row per handle "
+                             f"({len(self._handles)}, 3)")
+        if kwargs.get("initial") is not None:
+            kwargs["initial"] = self._rows(kwargs["initial"], "initial")
+        return _WeldedResult(super().solve(w.handle_targets(self._handles, T), *args, **kwargs), w)
+
+    def energy(self, X):
+        return super().energy(X if self._welding is None else self._rows(X, "X"))
 
     def laplacian(self):
         """Graph Laplacian (n_nodes x n_nodes): SciPy CSR, or (rows, cols, vals) without SciPy."""

@@ -2,12 +2,15 @@
 
     python3 -m edgedeform deform MESH --constraints C.json --out OUT.obj
         [--domain edge|primal] [--stiffness 0.5 | --stiffness-file lam.txt]
-        [--iterations N] [--tolerance T]
+        [--iterations N] [--tolerance T] [--weld]
 
 C.json: {"handles": [...], "static": [...], "roi": null or [...],
          "handle_targets": [[x, y, z], ...]}   (targets in the order of handles)
 
-On success: writes OUT (same vertex order as MESH) and prints one line of JSON.
+On success: writes OUT and prints one line of JSON. Only the positions change: OUT keeps
+MESH's vertex order, faces (quads, n-gons), texture coordinates, colours, groups and
+materials; normals are recomputed. The report's "notes" say what was recomputed, or what
+OUT's format cannot carry when it differs from MESH's.
 On bad input: one message on stderr, exit status 1, no output file, no traceback.
 """
 
@@ -19,7 +22,7 @@ import time
 
 import numpy as np
 
-from . import mesh_io
+from . import mesh_files
 
 EXIT_BAD_INPUT = 1
 
@@ -47,6 +50,9 @@ def _parser():
                      help="one stiffness value per vertex, whitespace separated")
     d.add_argument("--iterations", type=int, default=10, metavar="N",
                    help="maximum local/global iterations (default 10)")
+    d.add_argument("--weld", action="store_true",
+                   help="solve with vertices that share a position welded (unwelded seams); "
+                        "every copy gets the welded position")
     d.add_argument("--tolerance", type=float, default=1e-4, metavar="T",
                    help="relative energy change to stop at (default 1e-4)")
     return p
@@ -134,12 +140,13 @@ def deform(args):
         raise InputError("--iterations must be at least 1")
     if not math.isfinite(args.tolerance) or args.tolerance < 0:
         raise InputError("--tolerance must be a finite number >= 0")
-    mesh_io._ext(args.out)  # fail before any work if OUT has an unknown extension
-    V, F = mesh_io.read_mesh(args.mesh)
+    mesh_files.check_extension(args.out)  # fail before any work if OUT has an unknown extension
+    mesh = mesh_files.read_mesh_file(args.mesh)
+    V, F = mesh.vertices, mesh.triangles
     handles, static, roi, targets = load_constraints(args.constraints, len(V))
     lam = load_stiffness(args, len(V))
 
-    d = ed.Deformer(V, F, domain=args.domain)
+    d = ed.Deformer(V, F, domain=args.domain, weld=args.weld)
     d.set_constraints(handles=handles, static=static, roi=roi)
     d.set_stiffness(lam)
     t0 = time.perf_counter()
@@ -148,7 +155,7 @@ def deform(args):
     X = np.asarray(r.positions)
     if not np.all(np.isfinite(X)):
         raise InputError("the solve produced non-finite positions; nothing written")
-    mesh_io.write_mesh(args.out, X, F)
+    notes = mesh.write(args.out, X)
 
     its = int(r.iterations)
     loop_ms = float(r.local_ms + r.rhs_ms + r.solve_ms)
@@ -164,6 +171,8 @@ def deform(args):
         "free_vertices": int(r.free_vertices),
         "wall_ms": round(wall_ms, 3),
         "warnings": list(r.warnings),
+        "notes": notes,
+        "welded_copies": int(d.welded_copies),
     }
     return report
 

@@ -1,11 +1,11 @@
-"""edgedeform.mesh_io: file vertex order kept, polygons fan-triangulated, clear errors."""
+"""edgedeform.mesh_files: file vertex order kept, polygons fan-triangulated, clear errors."""
 
 import os
 
 import numpy as np
 import pytest
 
-from edgedeform.mesh_io import MeshFormatError, read_mesh, write_mesh
+from edgedeform.mesh_files import MeshFormatError, read_mesh, write_mesh
 from _meshes import ALL, DATA
 
 # vertex / face counts from tests/data/SOURCES.md
@@ -65,13 +65,23 @@ def test_quads_and_polygons_fan_triangulated(tmp_path):
 @pytest.mark.parametrize("content, words", [
     ("v 0 0 0\nv 1 0 0\nf 1 2 3\n", "out of range"),
     ("v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"),
-    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n", "out of range"),
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -4 -2 -1\n", "out of range"),
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "at least 3 corners"),
+    ("v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "line 1: a vertex needs 3 coordinates"),
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//4 2 3\n", "normal index 4 out of range"),
 ])
 def test_bad_obj_rejected(tmp_path, content, words):
     p = tmp_path / "bad.obj"
     p.write_text(content)
     with pytest.raises(MeshFormatError, match=words):
         read_mesh(p)
+
+
+def test_relative_obj_indices_resolve(tmp_path):
+    p = tmp_path / "rel.obj"
+    p.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 1 1 0\nf 2 -1 3\n")
+    V, F = read_mesh(p)
+    assert F.tolist() == [[0, 1, 2], [1, 3, 2]]
 
 
 def test_bad_paths(tmp_path):

@@ -1,8 +1,9 @@
-"""The one place where bpy data becomes NumPy arrays and back.
+"""The one place where bpy data becomes NumPy arrays and back (no policy here).
 
 Everything goes through ``foreach_get``/``foreach_set`` (or one bulk call such as
 ``VertexGroup.add``), never a Python loop over vertices. Blender stores float32; the solver
-wants float64, so positions are converted once, here.
+wants float64, so positions are converted once, here. What may be written where, and when,
+is decided by lifecycle.py.
 """
 
 import hashlib
@@ -10,17 +11,12 @@ import hashlib
 import bpy
 import numpy as np
 
-REST_ATTRIBUTE = ".edge_deform_rest"      # rest shape kept with the mesh (survives undo)
-TOPOLOGY_PROP = "edge_deform_topology"    # topology digest recorded at bind
 _READER_GROUP = ".EdgeDeformReadWeights"  # temporary geometry-nodes group
+_READER_OBJECT = ".EdgeDeformReader"      # temporary object sharing the mesh
 _READER_PREFIX = ".ed_w"
 
 
 # ---------------------------------------------------------------- geometry
-
-def vertex_count(mesh):
-    return len(mesh.vertices)
-
 
 def read_positions32(mesh):
     """Base-mesh vertex positions as float32 (n,3): exact copies for snapshots."""
@@ -58,6 +54,19 @@ def topology_digest(mesh):
     return h.hexdigest()
 
 
+def array_digest(a):
+    """Hash of an array's exact bytes (float32 positions: detects any edit)."""
+    a = np.ascontiguousarray(a)
+    h = hashlib.blake2b(digest_size=16)
+    h.update(str((a.dtype.str, a.shape)).encode())
+    h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def write_positions(mesh, co):
+    mesh.vertices.foreach_set("co", np.ascontiguousarray(co, np.float32).ravel())
+
+
 def read_selection(ob):
     """Selected vertices (bool (n,)), synced from Edit Mode when needed."""
     if ob.mode == 'EDIT':
@@ -71,39 +80,44 @@ def matrix_to_numpy(matrix):
     return np.array(matrix, dtype=np.float64)
 
 
-# ---------------------------------------------------------------- rest shape
+# ---------------------------------------------------------------- shape keys
 
-def store_rest(mesh, X, digest):
-    """Keep the rest shape in a hidden point attribute and the topology digest beside it."""
-    attr = mesh.attributes.get(REST_ATTRIBUTE)
+def read_key(key_block):
+    """A shape key's positions, float32 (n,3)."""
+    co = np.empty(len(key_block.data) * 3, np.float32)
+    key_block.data.foreach_get("co", co)
+    return co.reshape(-1, 3)
+
+
+def write_key(key_block, co):
+    key_block.data.foreach_set("co", np.ascontiguousarray(co, np.float32).ravel())
+
+
+# ---------------------------------------------------------------- point attributes
+
+def write_vector_attribute(mesh, name, X):
+    attr = mesh.attributes.get(name)
     if attr is None or attr.data_type != 'FLOAT_VECTOR' or attr.domain != 'POINT':
         if attr is not None:
             mesh.attributes.remove(attr)
-        attr = mesh.attributes.new(REST_ATTRIBUTE, 'FLOAT_VECTOR', 'POINT')
+        attr = mesh.attributes.new(name, 'FLOAT_VECTOR', 'POINT')
     attr.data.foreach_set("vector", np.ascontiguousarray(X, np.float32).ravel())
-    mesh[TOPOLOGY_PROP] = digest
 
 
-def read_rest(mesh, digest):
-    """The stored rest shape if it belongs to this topology, else None."""
-    attr = mesh.attributes.get(REST_ATTRIBUTE)
-    if attr is None or mesh.get(TOPOLOGY_PROP) != digest:
+def read_vector_attribute(mesh, name):
+    """float32 (n,3), or None when the mesh has no such point attribute."""
+    attr = mesh.attributes.get(name)
+    if attr is None or attr.data_type != 'FLOAT_VECTOR' or attr.domain != 'POINT':
         return None
     X = np.empty(len(mesh.vertices) * 3, np.float32)
     attr.data.foreach_get("vector", X)
-    return X.reshape(-1, 3).astype(np.float64)
+    return X.reshape(-1, 3)
 
 
-def has_rest(mesh):
-    return mesh.attributes.get(REST_ATTRIBUTE) is not None
-
-
-def clear_rest(mesh):
-    attr = mesh.attributes.get(REST_ATTRIBUTE)
+def remove_attribute(mesh, name):
+    attr = mesh.attributes.get(name)
     if attr is not None:
         mesh.attributes.remove(attr)
-    if TOPOLOGY_PROP in mesh:
-        del mesh[TOPOLOGY_PROP]
 
 
 # ---------------------------------------------------------------- vertex groups
@@ -140,42 +154,45 @@ def _new_reader_group(names):
 def read_group_weights(ob, names):
     """{name: float32 (n,)} weights of the named vertex groups (0 outside the group).
 
-    Blender has no bulk accessor for vertex-group weights, so a temporary geometry-nodes
-    modifier copies them into attributes that ``foreach_get`` can read; the other modifiers
-    are disabled meanwhile so that the evaluated mesh keeps the original vertices.
+    Blender has no bulk accessor for vertex-group weights, so a geometry-nodes modifier
+    copies them into attributes that ``foreach_get`` can read. It runs on a temporary
+    object sharing the mesh (vertex groups live on the mesh), linked to the scene's own
+    collection: the user's object, its modifiers and its visibility are never touched, and
+    a hidden object reads like a visible one.
     """
     names = list(dict.fromkeys(names))
     if not names:
         return {}
     if ob.mode == 'EDIT':
         ob.update_from_editmode()
-    n = len(ob.data.vertices)
-    shown = [(m, m.show_viewport) for m in ob.modifiers]
-    for m, _ in shown:
-        m.show_viewport = False
+    mesh = ob.data
+    n = len(mesh.vertices)
     ng = _new_reader_group(names)
-    mod = ob.modifiers.new("EdgeDeformRead", 'NODES')
-    mod.node_group = ng
-    mod.show_in_editmode = True
+    reader = bpy.data.objects.new(_READER_OBJECT, mesh)
     try:
+        mod = reader.modifiers.new("EdgeDeformRead", 'NODES')
+        mod.node_group = ng
+        mod.show_in_editmode = True   # the shared mesh may be in Edit Mode (grab)
+        bpy.context.scene.collection.objects.link(reader)
         depsgraph = bpy.context.evaluated_depsgraph_get()
-        evaluated = ob.evaluated_get(depsgraph)
-        mesh = evaluated.to_mesh()
+        evaluated = reader.evaluated_get(depsgraph)
+        out_mesh = evaluated.to_mesh()
         try:
-            if len(mesh.vertices) != n:
+            if len(out_mesh.vertices) != n:
                 raise RuntimeError("could not read vertex groups (evaluated mesh differs)")
             out = {}
             for k, name in enumerate(names):
+                attr = out_mesh.attributes.get(_READER_PREFIX + str(k))
+                if attr is None:
+                    raise RuntimeError("could not read vertex group '%s'" % name)
                 w = np.empty(n, np.float32)
-                mesh.attributes[_READER_PREFIX + str(k)].data.foreach_get("value", w)
+                attr.data.foreach_get("value", w)
                 out[name] = w
         finally:
             evaluated.to_mesh_clear()
     finally:
-        ob.modifiers.remove(mod)
+        bpy.data.objects.remove(reader)
         bpy.data.node_groups.remove(ng)
-        for m, state in shown:
-            m.show_viewport = state
     return out
 
 
@@ -198,90 +215,6 @@ def assign_group(ob, name, indices, weight=1.0, replace_all=False):
     if idx.size:
         vg.add(idx.tolist(), float(weight), 'REPLACE')
     return vg
-
-
-# ---------------------------------------------------------------- output
-
-def _shape_key_co(key_block, n):
-    co = np.empty(n * 3, np.float32)
-    key_block.data.foreach_get("co", co)
-    return co.reshape(-1, 3)
-
-
-def read_output(ob, output, key_name):
-    """Positions (float64 (n,3)) the add-on last wrote, or the base mesh."""
-    mesh = ob.data
-    keys = mesh.shape_keys
-    if output == 'SHAPE_KEY' and keys is not None and key_name in keys.key_blocks:
-        return _shape_key_co(keys.key_blocks[key_name], len(mesh.vertices)).astype(np.float64)
-    return read_positions(mesh)
-
-
-def write_output(ob, output, key_name, X):
-    """Write deformed positions into the shape key (created on demand) or the base mesh."""
-    mesh = ob.data
-    co = np.ascontiguousarray(X, np.float32).ravel()
-    if output == 'SHAPE_KEY':
-        if mesh.shape_keys is None:
-            ob.shape_key_add(name="Basis", from_mix=False)
-        key = mesh.shape_keys.key_blocks.get(key_name)
-        if key is None:
-            key = ob.shape_key_add(name=key_name, from_mix=False)
-        key.data.foreach_set("co", co)
-        key.value = 1.0
-        key.mute = False
-        mesh.shape_keys.update_tag()
-    else:
-        mesh.vertices.foreach_set("co", co)
-        if mesh.shape_keys is not None:
-            mesh.shape_keys.reference_key.data.foreach_set("co", co)
-            mesh.shape_keys.update_tag()
-    mesh.update()
-
-
-def remove_shape_key(ob, key_name):
-    keys = ob.data.shape_keys
-    if keys is not None and key_name in keys.key_blocks:
-        ob.shape_key_remove(keys.key_blocks[key_name])
-
-
-class OutputSnapshot:
-    """Exact copy of what the add-on may overwrite, for a bit-exact cancel."""
-
-    def __init__(self, ob, key_name):
-        mesh = ob.data
-        self.key_name = key_name
-        self.co = read_positions32(mesh)
-        keys = mesh.shape_keys
-        self.had_keys = keys is not None
-        self.active_index = ob.active_shape_key_index
-        self.reference = None
-        self.key = None
-        if keys is not None:
-            self.reference = _shape_key_co(keys.reference_key, len(mesh.vertices))
-            kb = keys.key_blocks.get(key_name)
-            if kb is not None:
-                self.key = (_shape_key_co(kb, len(mesh.vertices)), kb.value, kb.mute)
-
-    def restore(self, ob):
-        mesh = ob.data
-        mesh.vertices.foreach_set("co", self.co.ravel())
-        keys = mesh.shape_keys
-        if keys is not None:
-            if not self.had_keys:
-                ob.shape_key_clear()
-            else:
-                keys.reference_key.data.foreach_set("co", self.reference.ravel())
-                kb = keys.key_blocks.get(self.key_name)
-                if self.key is None:
-                    if kb is not None:
-                        ob.shape_key_remove(kb)
-                elif kb is not None:
-                    kb.data.foreach_set("co", self.key[0].ravel())
-                    kb.value, kb.mute = self.key[1], self.key[2]
-                ob.active_shape_key_index = self.active_index
-                keys.update_tag()
-        mesh.update()
 
 
 def evaluated_positions(ob, depsgraph=None):

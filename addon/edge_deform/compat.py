@@ -1,0 +1,38 @@
+"""Differences between the Blender versions the add-on runs on (3.4 to 5.0).
+
+Checked on Debian's 3.4.1 and on the `bpy` modules 4.5 LTS and 5.0 (tests/blender). The
+known API breaks of 4.0-5.0 do not reach this add-on: it passes no context-override dicts
+to operators (4.0), never touches auto smooth (4.1), draws nothing with `bgl` (5.0) and
+reads its PropertyGroup settings as attributes, never with dict syntax (5.0).
+"""
+
+import bpy
+
+
+def at_least(major, minor=0):
+    """True when this Blender is version major.minor or newer."""
+    return bpy.app.version[:2] >= (major, minor)
+
+
+def repair_selection_attributes(mesh):
+    """Drop a selection attribute stored with the wrong type, so mode switches cannot crash.
+
+    Blender 5.0.1's Mesh.from_pydata (used by scripts and importers) stores ".select_edge"
+    as INT32_2D instead of BOOLEAN; leaving Weight Paint with the vertex-selection mask on,
+    or writing the edge selection, then crashes Blender. A missing selection attribute means
+    "nothing selected", so removing the broken one loses nothing that was readable.
+    """
+    attributes = getattr(mesh, "attributes", None)   # (3.x meshes keep selection as flags)
+    if attributes is None:
+        return
+    for name in (".select_vert", ".select_edge", ".select_poly"):
+        attribute = attributes.get(name)
+        if attribute is not None and attribute.data_type != 'BOOLEAN':
+            attributes.remove(attribute)
+
+
+def mode_set(ob, mode):
+    """bpy.ops.object.mode_set for `ob` (the active object), safe on Blender 5.0.1 meshes."""
+    if ob.type == 'MESH':
+        repair_selection_attributes(ob.data)
+    bpy.ops.object.mode_set(mode=mode)

@@ -1,0 +1,34 @@
+// Ctrl-C during a long solve. The core asks SolveOptions::interrupt_requested once per
+// iteration; this supplies it from Python's signal handling without keeping the GIL.
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <optional>
+
+#include <pybind11/pybind11.h>
+
+namespace edgedeform::bindings {
+
+namespace py = pybind11;
+
+class SignalCheck {
+ public:
+  // At most one GIL round trip per `interval`: Ctrl-C is seen within one iteration plus
+  // this, and a fast iteration loop pays nothing measurable.
+  explicit SignalCheck(std::chrono::milliseconds interval = std::chrono::milliseconds(50));
+  // For SolveOptions::interrupt_requested; called without the GIL, from the solving thread.
+  std::function<bool()> callback();
+  // After the core stopped (SolveInterrupted), with the GIL held: raises the Python error
+  // the signal handler set (KeyboardInterrupt for Ctrl-C).
+  [[noreturn]] void raise_pending();
+
+ private:
+  bool poll();
+
+  std::chrono::milliseconds interval_;
+  std::chrono::steady_clock::time_point last_check_;
+  std::optional<py::error_already_set> pending_;
+};
+
+}  // namespace edgedeform::bindings

@@ -1,0 +1,133 @@
+"""Mesh files (OBJ, OFF, PLY) in and out, keeping everything but the positions.
+
+    mesh = read_mesh_file("in.obj")        # mesh.vertices (n,3), mesh.triangles (m,3)
+    notes = mesh.write("out.obj", X)       # only the positions change
+
+The solver needs triangles; the file keeps its own faces. `triangles` is a fan of every
+polygon from its first corner, with the file's vertex indices unchanged. Writing to the
+same format rewrites the input with new positions: quads and n-gons, texture coordinates,
+colours, groups, materials, comments and the storage format stay as they were, and normals
+are recomputed from the deformed faces (the returned notes say so). Writing to another
+format keeps positions and polygons; the notes name what that format cannot carry.
+Files appear atomically: a failed or interrupted write leaves no partial file.
+
+The parsers are this package's own (obj_format, off_format, ply_format).
+"""
+
+import os
+import tempfile
+
+import numpy as np
+
+from . import obj_format, off_format, ply_format
+from .polygons import fan_triangles
+
+SUPPORTED = (".obj", ".off", ".ply")
+_FORMATS = {".obj": obj_format, ".off": off_format, ".ply": ply_format}
+
+
+class MeshFormatError(ValueError):
+    """The file cannot be read or written as a polygon mesh."""
+
+
+def check_extension(path):
+    """The lower-case extension of `path`; MeshFormatError if it is not a supported format."""
+    ext = os.path.splitext(str(path))[1].lower()
+    if ext not in SUPPORTED:
+        raise MeshFormatError(
+            f"{path}: unsupported mesh format '{ext or '(none)'}' "
+            f"(supported: {', '.join(SUPPORTED)})")
+    return ext
+
+
+class MeshFile:
+    """A mesh as read from a file: positions, polygons, and the file to write back."""
+
+    def __init__(self, path, ext, source, vertices):
+        self.path, self.ext, self._source = path, ext, source
+        self.vertices = vertices                                # (n,3) float64, file order
+        self.face_sizes = source.sizes                          # (k,) corners per face
+        self.face_corners = source.corners                      # (sum sizes,) vertex indices
+        self.triangles = fan_triangles(source.sizes, source.corners)  # (m,3) int64
+
+    def write(self, path, positions):
+        """Write `positions` (n,3) with this file's faces and data. Returns notes (list of
+        str) on what was recomputed or could not be carried into the output format."""
+        path = str(path)
+        ext = check_extension(path)
+        X = np.asarray(positions, dtype=np.float64)
+        if X.shape != self.vertices.shape:
+            raise MeshFormatError(f"write: positions {X.shape}, the mesh has {self.vertices.shape}")
+        if ext == self.ext:
+            content, notes = self._source.rewrite(X)
+        else:
+            content = _FORMATS[ext].write_plain(X, self.face_sizes, self.face_corners)
+            lost = sorted(self._source.has)
+            notes = [f"{self.ext} -> {ext}: positions and faces written; not carried over: "
+                     f"{', '.join(lost)}"] if lost else []
+        _write_atomically(path, content)
+        return notes
+
+
+def read_mesh_file(path):
+    """Read OBJ, OFF (text) or PLY (ASCII or binary).
+
+    @raise MeshFormatError (a ValueError) naming the file and the problem,
+           FileNotFoundError when the file is missing.
+    """
+    path = str(path)
+    ext = check_extension(path)
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"{path}: no such file")
+    with open(path, "rb") as fh:
+        data = fh.read()
+    try:
+        # Latin-1 maps each byte to one character: text formats round-trip byte for byte.
+        source, V = _FORMATS[ext].read(data if ext == ".ply" else data.decode("latin-1"))
+    except (ValueError, IndexError, OverflowError) as exc:
+        raise MeshFormatError(f"{path}: cannot parse {ext[1:].upper()} ({exc})") from None
+    if len(V) == 0:
+        raise MeshFormatError(f"{path}: no vertices")
+    if len(source.sizes) == 0:
+        raise MeshFormatError(f"{path}: no faces")
+    c = source.corners
+    if c.min() < 0 or c.max() >= len(V):
+        raise MeshFormatError(f"{path}: face index out of range [0, {len(V)}) "
+                              f"(min {c.min()}, max {c.max()})")
+    return MeshFile(path, ext, source, np.ascontiguousarray(V, dtype=np.float64))
+
+
+def read_mesh(path):
+    """(V (n,3) float64 in file order, F (m,3) int64 fan triangles) of a mesh file."""
+    mesh = read_mesh_file(path)
+    return mesh.vertices, mesh.triangles
+
+
+def write_mesh(path, V, F):
+    """Write a new triangle mesh V (n,3), F (m,3), vertex order unchanged, atomically."""
+    path = str(path)
+    ext = check_extension(path)
+    V = np.asarray(V, dtype=np.float64)
+    F = np.asarray(F, dtype=np.int64)
+    if V.ndim != 2 or V.shape[1] != 3 or F.ndim != 2 or F.shape[1] != 3:
+        raise MeshFormatError(f"write_mesh: need V (n,3) and F (m,3), got {V.shape}, {F.shape}")
+    _write_atomically(path, _FORMATS[ext].write_plain(V, np.full(len(F), 3), F.reshape(-1)))
+
+
+def _write_atomically(path, content):
+    """Write to a temporary file next to `path`, then rename it into place."""
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise FileNotFoundError(f"{path}: folder {folder} does not exist")
+    fd, tmp = tempfile.mkstemp(suffix=os.path.splitext(path)[1], prefix=".edgedeform-", dir=folder)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(content if isinstance(content, bytes) else content.encode("latin-1"))
+        # mkstemp makes the file private (0600); give it the mode a plain open() would
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)

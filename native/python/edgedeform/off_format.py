@@ -1,0 +1,117 @@
+"""Object File Format (OFF and its ST/C/N prefixes), read and written back with only the
+vertex positions changed.
+
+Kept as they were: the header, comments, vertex colours and texture coordinates, the faces
+(any corner count) with their colours, and anything after the faces. Replaced: the three
+coordinates of each vertex line and, in NOFF files, the vertex normals, which are
+recomputed from the deformed faces (area-weighted). One vertex and one face per line, as
+every OFF writer we know produces; binary OFF and 4D/nD variants are refused by name.
+"""
+
+import numpy as np
+
+from .polygons import vertex_normals
+
+
+class OffFile:
+    def __init__(self, lines, v_lines, has_normals, sizes, corners, has):
+        self.lines = lines
+        self.v_lines = v_lines
+        self.has_normals = has_normals
+        self.sizes, self.corners = sizes, corners
+        self.has = has
+
+    def rewrite(self, positions):
+        lines = list(self.lines)
+        notes = []
+        normals = None
+        if self.has_normals:
+            old = np.array([[float(t) for t in _data(lines[k]).split()[3:6]] for k in self.v_lines])
+            normals = vertex_normals(positions, self.sizes, self.corners, old)
+            notes.append("vertex normals (NOFF) recomputed from the deformed faces")
+        for i, line_no in enumerate(self.v_lines):
+            line = lines[line_no]
+            data, comment = _data(line), line[len(_data(line)):].rstrip("\r\n")
+            rest = data.split()[6 if self.has_normals else 3:]
+            new = [repr(float(c)) for c in positions[i]]
+            if normals is not None:
+                new += [repr(float(c)) for c in normals[i]]
+            lines[line_no] = " ".join(new + rest) + comment + _ending(line)
+        return "".join(lines), notes
+
+
+def _data(line):
+    return line.split("#", 1)[0].rstrip("\r\n")
+
+
+def _ending(line):
+    return line[len(line.rstrip("\r\n")):] or "\n"
+
+
+def read(text):
+    lines = text.splitlines(keepends=True)
+    data = [(k, _data(line).split()) for k, line in enumerate(lines)]
+    data = [(k, t) for k, t in data if t]
+    if not data or not data[0][1][0].upper().endswith("OFF"):
+        raise ValueError("missing OFF header")
+    keyword = data[0][1][0]
+    prefix = keyword[:-3]  # [ST][C][N][4][n]OFF
+    if "BINARY" in (t.upper() for t in data[0][1][1:]):
+        raise ValueError("binary OFF is not supported (write it as text OFF or PLY)")
+    if "4" in prefix or prefix.endswith("n"):
+        raise ValueError(f"'{keyword}' (4D or nD vertices) is not supported")
+    prefix = prefix.upper()
+    if set(prefix) - set("STCN"):
+        raise ValueError(f"unknown OFF header '{keyword}'")
+    has_normals = "N" in prefix
+    head, rows = data[0][1][1:], data[1:]
+    if not head:
+        if not rows:
+            raise ValueError("missing vertex/face counts")
+        head, rows = rows[0][1], rows[1:]
+    try:
+        nv, nf = int(head[0]), int(head[1])
+    except (ValueError, IndexError):
+        raise ValueError(f"bad vertex/face counts {' '.join(head)!r}") from None
+    if len(rows) < nv + nf:
+        raise ValueError(f"expected {nv} vertices and {nf} faces, the file has {len(rows)} data lines")
+    coords = []
+    for k, t in rows[:nv]:
+        try:
+            coords.append([float(x) for x in t[:3]])
+        except ValueError:
+            raise ValueError(f"line {k + 1}: '{' '.join(t)}' is not a vertex") from None
+        if len(t) < (6 if has_normals else 3):
+            raise ValueError(f"line {k + 1}: a vertex line has too few numbers for '{keyword}'")
+    sizes, corners = [], []
+    for k, t in rows[nv:nv + nf]:
+        try:
+            size = int(t[0])
+            face = [int(x) for x in t[1:1 + size]]
+        except ValueError:
+            raise ValueError(f"line {k + 1}: '{' '.join(t)}' is not a face") from None
+        if size < 3 or len(face) != size:
+            raise ValueError(f"line {k + 1}: a face needs its corner count and at least 3 corners")
+        sizes.append(size)
+        corners += face
+    has = set()
+    if "C" in prefix:
+        has.add("vertex colours")
+    if "ST" in prefix:
+        has.add("texture coordinates")
+    if has_normals:
+        has.add("vertex normals")
+    if any(len(t) > 1 + int(t[0]) for _, t in rows[nv:nv + nf]):
+        has.add("face colours")
+    return (OffFile(lines, [k for k, _ in rows[:nv]], has_normals, np.array(sizes, dtype=np.int64),
+                    np.array(corners, dtype=np.int64), has),
+            np.array(coords, dtype=np.float64).reshape(-1, 3))
+
+
+def write_plain(positions, sizes, corners):
+    out = ["OFF\n", f"{len(positions)} {len(sizes)} 0\n"]
+    out += [f"{x!r} {y!r} {z!r}\n" for x, y, z in positions]
+    ends = np.cumsum(sizes)
+    text = np.asarray(corners).astype(str)
+    out += [f"{s} " + " ".join(text[e - s:e]) + "\n" for s, e in zip(sizes, ends)]
+    return "".join(out)

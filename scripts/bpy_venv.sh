@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# Makes (once) a virtual environment with Blender as a Python module (`pip install bpy`) for
+# one Blender series, cached under the build folder so later runs do not download again.
+#   scripts/bpy_venv.sh <build dir> <series, e.g. 4.5>
+# Prints the venv's python on the last line of stdout. Exit 3 when this series cannot be
+# installed here (no wheel for this Python/platform, no index reachable): callers skip it.
+set -euo pipefail
+build=$(realpath -m "$1")
+series=$2
+venv=$build/bpy_venvs/bpy-$series
+py=/usr/bin/python3   # bpy wheels are cp311; Debian's python3 is 3.11, like the module we build
+major=${series%%.*}
+minor=${series#*.}
+spec="bpy>=$series.0,<$major.$((minor + 1))"
+
+ok() { "$venv/bin/python" -c "import bpy, sys; v = bpy.app.version; sys.exit(0 if '%d.%d' % v[:2] == '$series' else 1)" 2>/dev/null; }
+
+# The Blender tests read their meshes with edgedeform's file reader, which needs meshio.
+test_deps() {
+  "$venv/bin/python" -c "import meshio" 2>/dev/null ||
+    "$venv/bin/python" -m pip install --no-cache-dir -q meshio >&2
+}
+
+if [ -x "$venv/bin/python" ] && [ -f "$venv/.complete" ] && ok; then
+  test_deps
+  echo "bpy_venv: cached $venv ($(cat "$venv/.complete"))" >&2
+  echo "$venv/bin/python"
+  exit 0
+fi
+rm -rf "$venv"
+mkdir -p "$build/bpy_venvs"
+if ! "$py" -m venv "$venv" >&2; then
+  echo "bpy_venv: could not make a venv with $py (apt-get install python3-venv)" >&2
+  exit 3
+fi
+# --no-cache-dir: the venv is the cache; pip's own cache would hold a second ~400 MB copy.
+if ! "$venv/bin/python" -m pip install --no-cache-dir -q "$spec" meshio >&2; then
+  echo "bpy_venv: '$spec' cannot be installed on this machine (Python $("$py" -c 'import platform; print(platform.python_version())'), $(uname -m)); skipping Blender $series" >&2
+  rm -rf "$venv"
+  exit 3
+fi
+if ! ok; then
+  echo "bpy_venv: '$spec' installed but 'import bpy' fails or reports another version" >&2
+  "$venv/bin/python" -c "import bpy; print(bpy.app.version_string)" >&2 || true
+  rm -rf "$venv"
+  exit 3
+fi
+if ! test_deps; then
+  echo "bpy_venv: could not install meshio (the tests' mesh reader)" >&2
+  exit 3
+fi
+"$venv/bin/python" -c "import bpy; print(bpy.app.version_string)" > "$venv/.complete"
+echo "bpy_venv: made $venv ($(cat "$venv/.complete"))" >&2
+echo "$venv/bin/python"

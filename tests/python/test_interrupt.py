@@ -1,0 +1,96 @@
+"""Ctrl-C during a long solve (issue 10): KeyboardInterrupt within half a second, the
+Deformer usable afterwards; the CLI exits 130 and writes nothing. The signal is a real
+SIGINT sent to a child process, as a terminal would."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from _meshes import DATA, DINO, lift, load
+
+HERE = Path(__file__).resolve().parent
+LATENCY_BOUND_S = 0.5  # issue 10: KeyboardInterrupt within half a second
+
+CHILD = r"""
+import json, sys, time
+import numpy as np
+import edgedeform as ed
+from _meshes import DINO, lift, load
+V, F = load(DINO)
+handles, static, targets = lift(V, amount=0.6)
+d = ed.Deformer(V, F)
+d.set_constraints(handles=handles, static=static)
+d.set_stiffness(0.5)
+d.solve(targets, max_iterations=2)  # factor now, so that the long solve below only iterates
+print("solving", flush=True)
+try:
+    r = d.solve(targets, max_iterations=10**8, tolerance=0.0, warm_start=False)
+    print(json.dumps({"finished": int(r.iterations)}), flush=True)
+    sys.exit(3)
+except KeyboardInterrupt:
+    caught = time.monotonic()
+r = d.solve(targets, max_iterations=30, tolerance=1e-6)
+X = np.asarray(r.positions)
+print(json.dumps({"caught": caught, "iterations": int(r.iterations),
+                  "handles_on_targets": bool(np.array_equal(X[handles], targets)),
+                  "finite": bool(np.isfinite(X).all())}), flush=True)
+"""
+
+
+def _start(args, **kwargs):
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(HERE), env.get("PYTHONPATH", "")])
+    return subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env=env, **kwargs)
+
+
+def _interrupt_after(proc, seconds):
+    time.sleep(seconds)
+    assert proc.poll() is None, "the solve ended before the signal was sent"
+    sent = time.monotonic()
+    proc.send_signal(signal.SIGINT)
+    return sent
+
+
+def test_keyboard_interrupt_stops_a_long_solve_and_the_deformer_still_works():
+    proc = _start([sys.executable, "-c", CHILD])
+    try:
+        assert proc.stdout.readline().strip() == "solving", proc.stderr.read()
+        sent = _interrupt_after(proc, 0.4)
+        out, err = proc.communicate(timeout=60)
+    finally:
+        proc.kill()
+    assert proc.returncode == 0, err
+    report = json.loads(out.strip().splitlines()[-1])
+    # time.monotonic is CLOCK_MONOTONIC, one clock for both processes
+    assert report["caught"] - sent < LATENCY_BOUND_S, report["caught"] - sent
+    assert report["handles_on_targets"] and report["finite"] and report["iterations"] >= 1
+
+
+def test_cli_exits_130_and_writes_nothing(tmp_path):
+    V, F = load(DINO)
+    handles, static, targets = lift(V, amount=0.6)
+    c = tmp_path / "c.json"
+    c.write_text(json.dumps({"handles": handles.tolist(), "static": static.tolist(),
+                             "handle_targets": targets.tolist()}))
+    out = tmp_path / "out.off"
+    proc = _start([sys.executable, "-m", "edgedeform", "deform", str(DATA / DINO),
+                   "--constraints", str(c), "--out", str(out),
+                   "--iterations", str(10**8), "--tolerance", "0"])
+    try:
+        sent = _interrupt_after(proc, 2.0)  # reading, factoring, then iterating
+        out_text, err = proc.communicate(timeout=60)
+        ended = time.monotonic()
+    finally:
+        proc.kill()
+    assert proc.returncode == 130, err
+    assert "interrupted" in err and "Traceback" not in err
+    assert ended - sent < 5.0  # includes interpreter shutdown on a shared machine
+    assert out_text == ""
+    assert list(tmp_path.iterdir()) == [c], "no output and no temporary file left behind"
