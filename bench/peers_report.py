@@ -119,7 +119,7 @@ def ratios(rows):
 
 
 def method_table(rows):
-    head = ("| mesh | vertices | edit | method | precompute ms | ms/it | CPU ms/it "
+    head = ("| mesh | vertices | edit | method | precompute ms (CPU) | ms/it | CPU ms/it "
             "| iterations to ε (reference) | time to ε s | peak RSS MB | live update / frame ms |")
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for r in rows:
@@ -142,7 +142,9 @@ def method_table(rows):
                 its = "not run"
             t = best_time_to_eps(r)
             live = r.get("live_update_ms")
-            lines.append(lead + f" {r['precompute_ms']:.0f} | {r['ms_per_it']:.2f} "
+            cpu = r.get("precompute_cpu_ms")
+            lines.append(lead + f" {r['precompute_ms']:.0f}{f' ({cpu:.0f})' if cpu else ''} "
+                         f"| {r['ms_per_it']:.2f} "
                          f"| {_fmt(r.get('cpu_ms_per_it'), '.2f')} | {its} "
                          f"| {_fmt(t and t / 1e3, '.2f')} | {r['peak_rss_mb']:.0f} "
                          f"| {_fmt(live, '.1f')}{' live' if live else ''} |")
@@ -189,8 +191,10 @@ def plot(result, path):
         for method in sorted({r["method"] for r in rows}):
             pts = sorted((r["vertices"], _value(r, field)) for r in rows if r["method"] == method)
             pts = [(n, v) for n, v in pts if v]
-            if pts:
-                ax.plot(*zip(*pts), "o-", label=label(method))
+            if pts:   # ours solid (one thread dashed), peers dotted with squares
+                style = ("o--" if "_t" in method else "o-") if method.startswith("edgedeform") \
+                    else "s:"
+                ax.plot(*zip(*pts), style, label=label(method))
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("vertices")
@@ -224,7 +228,8 @@ def _verdicts(result):
         threads = f"{sfx[2:]} thread(s)" if sfx else "default threads"
         big = rows.get(("140k", edit, EDGE + sfx))
         if big:
-            out.append(f"- 140k, edge λ=0.5, {edit}, {threads}: {big['ms_per_it']:.1f} ms/it (target ≤ 70: "
+            out.append(f"- 140k, edge λ=0.5, {edit}, {threads}, load {big['load_1min']:.0f}: "
+                       f"{big['ms_per_it']:.1f} ms/it (CPU {_fmt(big.get('cpu_ms_per_it'))}) (target ≤ 70: "
                        f"{'met' if big['ms_per_it'] <= 70 else 'missed'}), precompute "
                        f"{big['precompute_ms'] / 1e3:.2f} s (≤ 2.5 s: "
                        f"{'met' if big['precompute_ms'] <= 2500 else 'missed'}), peak memory "
@@ -232,13 +237,15 @@ def _verdicts(result):
                        f"{'met' if big['peak_rss_mb'] <= 1536 else 'missed'}).")
         r = rat.get(("50k", edit, sfx[2:] if sfx else "default"))
         if r:
-            for key, target, what in (("edge_cgal_it", 0.35, "edge / CGAL ARAP per iteration"),
-                                      ("primal_cgal_it", 0.15, "primal / CGAL ARAP per iteration"),
-                                      ("primal_libigl_it", 0.5,
+            for key, target, what in (("edge_cgal", 0.35, "edge / CGAL ARAP per iteration"),
+                                      ("primal_cgal", 0.15, "primal / CGAL ARAP per iteration"),
+                                      ("primal_libigl", 0.5,
                                        "primal / libigl ARAP per iteration")):
-                if r.get(key):
-                    out.append(f"- 50k, {edit}, {threads}: {what} {r[key]:.2f} (target ≤ {target}: "
-                               f"{'met' if r[key] <= target else 'missed'}).")
+                wall, cpu = r.get(key + "_it"), r.get(key + "_cpu_it")
+                if wall:
+                    out.append(f"- 50k, {edit}, {threads}: {what} {wall:.2f} wall (target ≤ "
+                               f"{target}: {'met' if wall <= target else 'missed'}), "
+                               f"{_fmt(cpu, '.2f')} CPU.")
             if r.get("blender_over_edge_live"):
                 v = r["blender_over_edge_live"]
                 out.append(f"- 50k, {edit}, {threads}: Blender Laplacian Deform frame / one edge live update "
@@ -260,7 +267,7 @@ def write_markdown(result, md_path, plot_path):
 Machine: {m['cpu']}, {m['cores']} cores, **shared with other work while this ran** (1-minute
 load average when each row finished is in bench/results/peers.json; {m.get('load_1min', 0):.1f}
 at the end), so absolute times are noisy; ratios compare runs made minutes apart in one
-invocation. Date: {m['date']}. Ours: solver `{bi.get('solver', '?')}`, OpenMP threads
+invocation. Date: 2026-11-30, last invocation {m['date']}. Ours: solver `{bi.get('solver', '?')}`, OpenMP threads
 {bi.get('threads', '?')}. Peers: {', '.join(versions)}; CGAL uses its default solver (Eigen
 SparseLU) on one thread.
 
@@ -269,8 +276,9 @@ top 10 % the handle; "lift" raises it by ¼ of the bounding-box diagonal, "twist
 90° about the height axis. Every vertex is in the region of interest. Each method runs in
 its own process:
 - **precompute**: everything before the first iteration (graph, weights, assembly,
-  factorization); median of {s['repeat']}. Blender: bind + the first frame (which builds and
-  factors its system).
+  factorization); median of {s['repeat']}; CPU time in brackets (all threads; for ours it
+  also covers the first solve's one iteration). Blender: bind + the first frame (which
+  builds and factors its system).
 - **ms/it**: wall time of {s['block']} iterations / {s['block']}, median of {s['repeat']}.
   Blender: one animation frame with the hook moving the handles (its Laplacian Deform part
   in brackets: the frame minus the same frame with the modifier off).
