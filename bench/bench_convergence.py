@@ -234,7 +234,7 @@ def markdown(result, png_rel):
         "## Convergence: plain vs Anderson-accelerated (bench/bench_convergence.py)",
         "",
         f"Machine: {m['cpu']}, {m['cores']} cores shared with other jobs (load {m['load_1min']:.1f} "
-        f"at the start), {m['date']}. Timings are noisy; iteration counts are exact.",
+        f"during the run), {m['date']}. Timings are noisy; iteration counts are exact.",
         "",
         "Iterations and core ms (factorization + local + rhs + solve) until every vertex is "
         "within 1e-3·diag of the fixed point (reference: see the script's docstring); "

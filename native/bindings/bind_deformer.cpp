@@ -44,8 +44,8 @@ void bind_deformer(py::module_& m) {
                     "the estimated largest vertex distance to the fixed point is below tolerance * diagonal")
       .def_readonly("distance_estimate", &SolveResult::distance_estimate,
                     "estimated largest vertex distance of positions to the fixed point / diagonal (inf: unknown)")
-      .def_readonly("accelerated_steps", &SolveResult::accelerated_steps)
-      .def_readonly("rejected_steps", &SolveResult::rejected_steps)
+      .def_readonly("accelerated_steps", &SolveResult::accelerated_steps, "Anderson steps taken")
+      .def_readonly("rejected_steps", &SolveResult::rejected_steps, "Anderson steps the safeguard discarded")
       .def_readonly("warnings", &SolveResult::warnings)
       .def_readonly("factor_ms", &SolveResult::factor_ms)
       .def_readonly("local_ms", &SolveResult::local_ms)

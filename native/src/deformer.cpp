@@ -329,9 +329,9 @@ void Deformer::iterate(const SolveOptions& options, const Eigen::MatrixXd& c, Ro
     }
 
     if (accelerate && !descent && it.y_accelerated && !(r < kResidualSlack * it.best_residual)) {
-      // The accelerated point did not reduce the residual: back to the plain step it replaced.
+      // The accelerated point's residual is not below kResidualSlack times the best: back to
+      // the plain step it replaced.
       ++result.rejected_steps;
-      --result.accelerated_steps;
       it.anderson.reset();
       it.y = it.base_step;
       it.y_accelerated = false;

@@ -48,7 +48,7 @@ struct SolveResult {
   // (for the plain method |x_k - x_{k-1}|, the largest vertex move, over the rest diagonal).
   std::vector<double> residuals;
   double distance_estimate = 0.0;               // of the result to the fixed point, / diag
-  int accelerated_steps = 0, rejected_steps = 0;  // Anderson steps kept, and discarded
+  int accelerated_steps = 0, rejected_steps = 0;  // Anderson steps taken; discarded by the safeguard
   std::optional<double> initial_energy;         // energy of `initial`, when given
   bool converged = false;
   std::vector<std::string> warnings;
