@@ -230,6 +230,52 @@ print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
 """
 
 
+ITERATION_SCRIPT = """
+import sys, numpy as np
+sys.path.insert(0, {here!r})
+import edgedeform as ed
+from edgedeform.mesh_io import read_mesh
+from bench_core import lift_edit
+V, F = read_mesh({path!r})
+handles, static, targets, _ = lift_edit(V)
+d = ed.Deformer(V, F, domain="edge")
+d.set_constraints(handles=handles, static=static)
+d.set_stiffness(0.5)
+d.solve(targets, max_iterations=1)
+per_it = []
+for _ in range(5):
+    r = d.solve(targets, max_iterations=10, tolerance=0.0)
+    per_it.append((r.local_ms + r.rhs_ms + r.solve_ms) / r.iterations)
+print(np.median(per_it))
+"""
+
+
+def busy_ab(sizes, rounds):
+    """With one core kept busy: 1 and 2 threads in alternating fresh processes, `rounds`
+    each, so that both see the same stretch of the machine's other load. Median ms per
+    iteration (edge, λ = 0.5, median of 5 runs of 10 iterations in each process)."""
+    busy = subprocess.Popen([sys.executable, "-c", "while True: pass"])
+    rows = []
+    try:
+        for size in sizes:
+            code = ITERATION_SCRIPT.format(here=str(HERE), path=f"{MESHES}/{SIZES[size]}")
+            times = {1: [], 2: []}
+            for _ in range(rounds):
+                for threads in (1, 2):
+                    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+                    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                                         text=True, check=True)
+                    times[threads].append(float(out.stdout.split()[-1]))
+            rows.append({"size": size, "mesh": SIZES[size], "rounds": rounds,
+                         "ms_per_it_1": float(np.median(times[1])),
+                         "ms_per_it_2": float(np.median(times[2])),
+                         "all_1": times[1], "all_2": times[2], "load_1min": os.getloadavg()[0]})
+            print(rows[-1], flush=True)
+    finally:
+        busy.kill()
+    return rows
+
+
 def peak_memory(size, domain, lam):
     """Peak resident set (MB) of a fresh process that reads the mesh, builds one Deformer,
     factors and runs 10 iterations: the memory one live session needs."""
@@ -345,6 +391,21 @@ def targets(rows, peaks=()):
     return "\n".join(out)
 
 
+def busy_ab_table(result):
+    rows = result.get("busy_ab")
+    if not rows:
+        return ""
+    lines = ["| size | mesh | rounds | 1 thread ms/it (median) | 2 threads ms/it (median) | 2 / 1 | load |",
+             "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['size']} | {r['mesh']} | {r['rounds']} | {r['ms_per_it_1']:.2f} "
+                     f"| {r['ms_per_it_2']:.2f} | {r['ms_per_it_2'] / r['ms_per_it_1']:.2f} "
+                     f"| {r['load_1min']:.1f} |")
+    return ("\nOne core kept busy (`--busy-ab`): 1 and 2 threads in alternating fresh processes "
+            "(edge, λ = 0.5, lift; each process the median of 5 × 10 iterations), medians over "
+            "the rounds:\n\n" + "\n".join(lines) + "\n")
+
+
 def roi_table(result):
     rows = result.get("roi")
     if not rows:
@@ -397,7 +458,7 @@ is measured apart with `--peak`).
 Targets (issue 8), as measured in these rows:
 
 {targets(rows, result.get("peak_memory", ()))}
-{roi_table(result)}
+{busy_ab_table(result)}{roi_table(result)}
 Commands (rows merged across runs, each row keeps its own load):
 {chr(10).join("- `" + c + "`" for c in result.get("commands", []))}
 """
@@ -417,6 +478,8 @@ def main(argv=None):
                    help="keep one core busy with a second process during the run")
     p.add_argument("--skip-changes", action="store_true",
                    help="leave out the λ-change and handle-change measurements")
+    p.add_argument("--busy-ab", type=int, default=0, metavar="ROUNDS",
+                   help="only: 1 vs 2 threads with one core busy, alternating fresh processes")
     p.add_argument("--peak", action="store_true",
                    help="only the peak memory of one Deformer per size/domain/λ, each in a fresh process")
     p.add_argument("--roi", action="store_true",
@@ -451,6 +514,9 @@ def main(argv=None):
     try:
         if args.roi:
             result["roi"] = run_roi(ed, args.repeat)
+            out.write_text(json.dumps(result, indent=1))
+        elif args.busy_ab:
+            result["busy_ab"] = busy_ab(sizes, args.busy_ab)
             out.write_text(json.dumps(result, indent=1))
         elif args.peak:
             peaks = [peak_memory(size, domain, float(lam)) for size in sizes
