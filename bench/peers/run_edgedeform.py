@@ -22,8 +22,10 @@ from peers.trajectory import max_distance, measure
 
 
 def has_acceleration():
-    """Whether this build's solve() takes `acceleration` (its pybind11 signature says so)."""
-    return "acceleration" in (ed.Deformer.solve.__doc__ or "")
+    """Whether this build's solve() takes `acceleration`: the native method's pybind11
+    signature says so (a Python subclass may wrap it with *args, **kwargs)."""
+    return any("acceleration" in (getattr(cls.__dict__.get("solve"), "__doc__", None) or "")
+               for cls in ed.Deformer.__mro__)
 
 
 class EdgeDeform:
