@@ -7,6 +7,7 @@
 #include "edgedeform/errors.h"
 #include "numpy_convert.h"
 #include "signal_check.h"
+#include "typed_args.h"
 
 namespace edgedeform::bindings {
 
@@ -32,27 +33,30 @@ py::array_t<int64_t> int_matrix(const RowMatrixX2i& M) {
 
 void bind_deformer(py::module_& m) {
   py::class_<SolveResult>(m, "SolveResult", "Result of Deformer.solve.")
-      .def_readonly("positions", &SolveResult::positions, "(n,3) float64, every vertex")
-      .def_readonly("iterations", &SolveResult::iterations)
-      .def_property_readonly("energies",
-                             [](const SolveResult& r) { return py::array_t<double>(r.energies.size(), r.energies.data()); })
+      .def_readonly("positions", &SolveResult::positions, "(n, 3) float64: every vertex, constrained ones included")
+      .def_readonly("iterations", &SolveResult::iterations, "global steps taken in this call")
+      .def_property_readonly(
+          "energies", [](const SolveResult& r) { return py::array_t<double>(r.energies.size(), r.energies.data()); },
+          "(iterations,) float64: the energy after each iteration")
       .def_property_readonly(
           "residuals", [](const SolveResult& r) { return py::array_t<double>(r.residuals.size(), r.residuals.data()); },
           "(iterations,) per iteration: largest vertex move of the plain step / rest bounding-box diagonal")
-      .def_readonly("initial_energy", &SolveResult::initial_energy)
+      .def_readonly("initial_energy", &SolveResult::initial_energy, "energy of `initial` when it was given, else None")
       .def_readonly("converged", &SolveResult::converged,
                     "the estimated largest vertex distance to the fixed point is below tolerance * diagonal")
       .def_readonly("distance_estimate", &SolveResult::distance_estimate,
                     "estimated largest vertex distance of positions to the fixed point / diagonal (inf: unknown)")
-      .def_readonly("accelerated_steps", &SolveResult::accelerated_steps, "Anderson steps taken")
-      .def_readonly("rejected_steps", &SolveResult::rejected_steps, "Anderson steps the safeguard discarded")
-      .def_readonly("warnings", &SolveResult::warnings)
-      .def_readonly("factor_ms", &SolveResult::factor_ms)
-      .def_readonly("local_ms", &SolveResult::local_ms)
-      .def_readonly("rhs_ms", &SolveResult::rhs_ms)
-      .def_readonly("solve_ms", &SolveResult::solve_ms)
-      .def_readonly("free_vertices", &SolveResult::free_vertices)
-      .def_readonly("active_nodes", &SolveResult::active_nodes)
+      .def_readonly("accelerated_steps", &SolveResult::accelerated_steps, "Anderson steps kept")
+      .def_readonly("rejected_steps", &SolveResult::rejected_steps,
+                    "Anderson steps discarded by the safeguard (the plain step was taken instead)")
+      .def_readonly("warnings", &SolveResult::warnings,
+                    "list[str]: not converged, vertices kept at rest, torn seams, ...")
+      .def_readonly("factor_ms", &SolveResult::factor_ms, "assembly + factorization in this call (0 when reused)")
+      .def_readonly("local_ms", &SolveResult::local_ms, "total ms in the local steps (rotation and scale fits)")
+      .def_readonly("rhs_ms", &SolveResult::rhs_ms, "total ms building right-hand sides")
+      .def_readonly("solve_ms", &SolveResult::solve_ms, "total ms in back-substitutions")
+      .def_readonly("free_vertices", &SolveResult::free_vertices, "unknown vertices after constraints and region")
+      .def_readonly("active_nodes", &SolveResult::active_nodes, "graph nodes whose terms touch a free vertex")
       .def("__repr__", [](const SolveResult& r) {
         return "<SolveResult iterations=" + std::to_string(r.iterations) +
                " converged=" + (r.converged ? "True" : "False") +
@@ -60,27 +64,40 @@ void bind_deformer(py::module_& m) {
                " energy=" + (r.energies.empty() ? "-" : std::to_string(r.energies.back())) + ">";
       });
 
-  py::class_<Deformer>(m, "Deformer")
-      .def(py::init([](const py::handle& V, const py::handle& F, const std::string& domain, bool clamp) {
-             RowMatrixX3d v = to_points(V, "V");
-             RowMatrixX3i f = to_faces(F, "F");
+  py::class_<Deformer>(m, "Deformer",
+                       "Shape-preserving deformation of one triangle mesh: set constraints and stiffness, then solve.")
+      .def(py::init([](const PointsArg& V, const FacesArg& F, const std::string& domain, bool clamp) {
+             RowMatrixX3d v = to_points(V.obj, "V");
+             RowMatrixX3i f = to_faces(F.obj, "F");
              const Domain d = parse_domain(domain);
              py::gil_scoped_release release;
              return std::make_unique<Deformer>(v, f, d, clamp);
            }),
-           py::arg("V"), py::arg("F"), py::arg("domain") = "edge", py::arg("clamp_negative_weights") = true)
+           py::arg("V"), py::arg("F"), py::arg("domain") = "edge", py::arg("clamp_negative_weights") = true,
+           R"doc(Builds the graph of a mesh.
+
+V: (n, 3) rest positions; F: (m, 3) triangles (vertex indices).
+domain: "edge" (nodes at edge midpoints, the paper's method) or "primal" (nodes at vertices).
+clamp_negative_weights: clamp negative cotangent weights to 0 (keeps every term positive
+semi-definite, as CGAL's ARAP does). Raises ValueError for a malformed or degenerate mesh.)doc")
       .def(
           "set_constraints",
-          [](Deformer& d, const py::handle& handles, const py::handle& statics, const py::handle& roi) {
-            ConstraintSets sets = constraint_sets(handles, statics, roi);
+          [](Deformer& d, const IndicesArg& handles, const OptionalIndicesArg& statics, const OptionalIndicesArg& roi) {
+            ConstraintSets sets = constraint_sets(handles.obj, statics.obj, roi.obj);
             py::gil_scoped_release release;
             d.set_constraints(sets);
           },
           py::arg("handles"), py::arg("static") = py::none(), py::arg("roi") = py::none(),
-          "Handle, static and region-of-interest vertex indices (roi None = every vertex).")
+          R"doc(Which vertices are moved, which stay, and which may change.
+
+handles: (h,) vertex indices that solve() puts exactly on its targets.
+static: (s,) vertex indices kept at rest, or None.
+roi: (r,) the region of interest, or None for the whole mesh; vertices outside stay at rest.
+Raises ValueError when a vertex is both handle and static, IndexError when an index is out of range.)doc")
       .def(
           "set_stiffness",
-          [](Deformer& d, const py::handle& lam) {
+          [](Deformer& d, const StiffnessArg& stiffness) {
+            const py::handle& lam = stiffness.obj;
             if (py::isinstance<py::float_>(lam) || py::isinstance<py::int_>(lam)) {
               const double value = lam.cast<double>();
               // Without the GIL, like every call that waits for the Deformer's lock: a solve
@@ -93,11 +110,17 @@ void bind_deformer(py::module_& m) {
             py::gil_scoped_release release;
             d.set_stiffness(v);
           },
-          py::arg("stiffness"), "lambda in [0,1]: one float, or one value per vertex.")
+          py::arg("stiffness"),
+          R"doc(Material stiffness lambda in [0, 1]: one float for the whole mesh, or (n,) one per vertex.
+
+1 is rigid (the 1-form energy only), 0 is smooth (the Laplacian energy only). Edge nodes take
+the mean of their two vertices. Only a numeric refactorization follows; the analysis is kept.)doc")
       .def(
           "solve",
-          [](Deformer& d, const py::handle& targets, int max_iterations, double tolerance, bool warm_start,
-             const py::handle& initial, const std::string& acceleration, int anderson_window) {
+          [](Deformer& d, const TargetsArg& targets_arg, int max_iterations, double tolerance, bool warm_start,
+             const OptionalPointsArg& initial_arg, const std::string& acceleration, int anderson_window) {
+            const py::handle& targets = targets_arg.obj;
+            const py::handle& initial = initial_arg.obj;
             SolveOptions o;
             o.max_iterations = max_iterations;
             o.tolerance = tolerance;
@@ -118,25 +141,40 @@ void bind_deformer(py::module_& m) {
           py::arg("targets"), py::arg("max_iterations") = SolveOptions{}.max_iterations,
           py::arg("tolerance") = SolveOptions{}.tolerance, py::arg("warm_start") = true, py::arg("initial") = py::none(),
           py::arg("acceleration") = "anderson", py::arg("anderson_window") = SolveOptions{}.anderson_window,
-          "Local/global iterations until the estimated largest vertex distance to the fixed point is below\n"
-          "tolerance * rest bounding-box diagonal, or max_iterations. acceleration: \"anderson\" | \"none\".\n"
-          "A warm solve with unchanged targets continues the previous iteration (its Anderson history too).")
+          R"doc(Deforms the mesh so that the handles reach their targets.
+
+targets: (h, 3) one target per handle, in the order given to set_constraints.
+max_iterations: most local/global iterations in this call.
+tolerance: stop when the estimated largest vertex distance to the fixed point is below
+    tolerance * the rest bounding-box diagonal; then result.converged is True.
+warm_start: start from the previous solve's shape; with unchanged targets this continues
+    the same iteration (Anderson history included), so repeated short calls settle on the
+    cold solve's shape.
+initial: (n, 3) positions to start from instead (a local step on them first), or None.
+acceleration: "anderson" (default, same fixed point in fewer iterations) or "none".
+anderson_window: how many past iterates Anderson acceleration combines (1..50).
+Returns a SolveResult. Ctrl-C raises KeyboardInterrupt between iterations and leaves the
+Deformer usable.)doc")
       .def(
           "energy",
-          [](const Deformer& d, const py::handle& X) {
-            RowMatrixX3d x = to_points(X, "X");
+          [](const Deformer& d, const PointsArg& X) {
+            RowMatrixX3d x = to_points(X.obj, "X");
             py::gil_scoped_release release;
             return d.energy(x);
           },
-          py::arg("X"), "Energy of positions X, rotations and scales fitted to X, over every node.")
-      .def_property_readonly("n_vertices", &Deformer::n_vertices)
-      .def_property_readonly("n_faces", &Deformer::n_faces)
-      .def_property_readonly("n_nodes", [](const Deformer& d) { return d.graph().n_nodes; })
-      .def_property_readonly("domain", [](const Deformer& d) { return std::string(domain_name(d.domain())); })
+          py::arg("X"), "Energy of positions X (n, 3) over every node, with rotations and scales fitted to X.")
+      .def_property_readonly("n_vertices", &Deformer::n_vertices, "vertices of the mesh")
+      .def_property_readonly("n_faces", &Deformer::n_faces, "triangles of the mesh")
+      .def_property_readonly(
+          "n_nodes", [](const Deformer& d) { return d.graph().n_nodes; }, "graph nodes (edges or vertices)")
+      .def_property_readonly(
+          "domain", [](const Deformer& d) { return std::string(domain_name(d.domain())); }, "\"edge\" or \"primal\"")
       .def_property_readonly("analyses", &Deformer::analyses, "symbolic analyses so far (reuse check)")
       .def_property_readonly("factor_nonzeros", &Deformer::factor_nonzeros,
                              "entries of the Cholesky factor from the last analysis (0 before the first solve)")
-      .def("edges", [](const Deformer& d) { return int_matrix(d.topology().edges); })
+      .def(
+          "edges", [](const Deformer& d) { return int_matrix(d.topology().edges); },
+          "(n_edges, 2) int64 unique undirected edges, a < b (the edge domain's node order)")
       .def("node_vertices",
            [](const Deformer& d) {
              const RowMatrixX2i& nv = d.graph().node_vertices;
@@ -145,10 +183,17 @@ void bind_deformer(py::module_& m) {
              auto o = out.mutable_unchecked<2>();
              for (Eigen::Index r = 0; r < nv.rows(); ++r) o(r, 0) = nv(r, 0);
              return out;
-           })
-      .def("arcs", [](const Deformer& d) { return int_matrix(d.graph().arcs); })
-      .def("weights", [](const Deformer& d) { return Eigen::VectorXd(d.graph().arc_weights); })
-      .def("node_stiffness", [](const Deformer& d) { return Eigen::VectorXd(d.node_lambda()); })
+           },
+           "the vertices of each node: (n_edges, 2) in the edge domain, (n, 1) in the primal one")
+      .def(
+          "arcs", [](const Deformer& d) { return int_matrix(d.graph().arcs); },
+          "(n_arcs, 2) int64 node pairs i < j of the graph")
+      .def(
+          "weights", [](const Deformer& d) { return Eigen::VectorXd(d.graph().arc_weights); },
+          "(n_arcs,) float64 arc weights (after clamping, when on)")
+      .def(
+          "node_stiffness", [](const Deformer& d) { return Eigen::VectorXd(d.node_lambda()); },
+          "(n_nodes,) float64 lambda per node under the current stiffness")
       .def("_laplacian_coo", [](const Deformer& d) { return to_coo(d.graph().laplacian()); })
       .def("_node_matrix_coo", [](const Deformer& d) { return to_coo(d.graph().node_matrix()); });
 }

@@ -114,6 +114,15 @@ class Deformer(_NativeDeformer):
     def energy(self, X):
         return super().energy(X if self._welding is None else self._rows(X, "X"))
 
+    # help() shows the native signatures and docs (typed arguments, shapes, defaults), not
+    # the pass-through signatures of the welding layer above.
+    __init__.__doc__ = (_NativeDeformer.__init__.__doc__ +
+                        "\nweld: solve with vertices that share a position merged (see the class doc).")
+    set_constraints.__doc__ = _NativeDeformer.set_constraints.__doc__
+    set_stiffness.__doc__ = _NativeDeformer.set_stiffness.__doc__
+    solve.__doc__ = _NativeDeformer.solve.__doc__
+    energy.__doc__ = _NativeDeformer.energy.__doc__
+
     def laplacian(self):
         """Graph Laplacian (n_nodes x n_nodes): SciPy CSR, or (rows, cols, vals) without SciPy."""
         return _sparse(self._laplacian_coo())
