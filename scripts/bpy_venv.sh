@@ -15,14 +15,7 @@ spec="bpy>=$series.0,<$major.$((minor + 1))"
 
 ok() { "$venv/bin/python" -c "import bpy, sys; v = bpy.app.version; sys.exit(0 if '%d.%d' % v[:2] == '$series' else 1)" 2>/dev/null; }
 
-# The Blender tests read their meshes with edgedeform's file reader, which needs meshio.
-test_deps() {
-  "$venv/bin/python" -c "import meshio" 2>/dev/null ||
-    "$venv/bin/python" -m pip install --no-cache-dir -q meshio >&2
-}
-
 if [ -x "$venv/bin/python" ] && [ -f "$venv/.complete" ] && ok; then
-  test_deps
   echo "bpy_venv: cached $venv ($(cat "$venv/.complete"))" >&2
   echo "$venv/bin/python"
   exit 0
@@ -34,7 +27,7 @@ if ! "$py" -m venv "$venv" >&2; then
   exit 3
 fi
 # --no-cache-dir: the venv is the cache; pip's own cache would hold a second ~400 MB copy.
-if ! "$venv/bin/python" -m pip install --no-cache-dir -q "$spec" meshio >&2; then
+if ! "$venv/bin/python" -m pip install --no-cache-dir -q "$spec" >&2; then
   echo "bpy_venv: '$spec' cannot be installed on this machine (Python $("$py" -c 'import platform; print(platform.python_version())'), $(uname -m)); skipping Blender $series" >&2
   rm -rf "$venv"
   exit 3
@@ -43,10 +36,6 @@ if ! ok; then
   echo "bpy_venv: '$spec' installed but 'import bpy' fails or reports another version" >&2
   "$venv/bin/python" -c "import bpy; print(bpy.app.version_string)" >&2 || true
   rm -rf "$venv"
-  exit 3
-fi
-if ! test_deps; then
-  echo "bpy_venv: could not install meshio (the tests' mesh reader)" >&2
   exit 3
 fi
 "$venv/bin/python" -c "import bpy; print(bpy.app.version_string)" > "$venv/.complete"

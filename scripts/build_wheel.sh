@@ -22,7 +22,7 @@ fi
 raw=$build/wheel_raw
 rm -rf "$raw"
 # --no-build-isolation: the venv's scikit-build-core (no download per build);
-# --no-deps: the wheel only (numpy and meshio are the installer's business).
+# --no-deps: the wheel only (numpy is the installer's business).
 "$venv/bin/python" -m pip wheel . --no-build-isolation --no-deps -q -w "$raw" \
   --config-settings=build-dir="$build/wheel_build" >&2
 built=$(ls "$raw"/edgedeform-*.whl)

@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libsuitesparse-dev libopenblas-dev pybind11-dev python3-dev python3-venv
-  python3-numpy python3-scipy python3-pytest python3-meshio
+  python3-numpy python3-scipy python3-pytest
   libgtest-dev googletest
   blender xvfb xauth
   clang libclang-rt-14-dev

@@ -3,7 +3,7 @@ is the same CLI as `python -m edgedeform`.
 
     check_wheel.py WHEEL_DIR WORK_DIR MESH
 
-A fresh venv in WORK_DIR (with the system's site packages, so numpy and meshio come from
+A fresh venv in WORK_DIR (with the system's site packages, so numpy comes from
 Debian and nothing is downloaded) installs the wheel; from a folder outside the checkout,
 the package must load from the venv and both commands must deform MESH identically.
 """

@@ -31,9 +31,15 @@ class InputError(ValueError):
     """Bad command-line input; the message is shown to the user as is."""
 
 
+def _program_name():
+    name = os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] else ""
+    return "edgedeform" if name == "edgedeform" else "python3 -m edgedeform"
+
+
 def _parser():
     p = argparse.ArgumentParser(
-        prog="python3 -m edgedeform",
+        # "edgedeform" when run as the console script, "python3 -m edgedeform" otherwise.
+        prog=_program_name(),
         description="Edge-based graph mesh deformation (batch).")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
