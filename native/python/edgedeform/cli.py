@@ -17,6 +17,7 @@ On bad input: one message on stderr, exit status 1, no output file, no traceback
 import argparse
 import json
 import math
+import os
 import sys
 import time
 
