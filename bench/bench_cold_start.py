@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A candidate cold start, measured against the naive-Laplacian start (issue 7, item 5).
+"""A candidate cold start, measured against the naive-Laplacian start .
 
 Candidate: each handle group's rigid motion (Kabsch fit of rest -> targets) propagated over the
 mesh by a harmonic field phi (L phi = 0, phi = 1 on the handles, 0 on the static vertices):

@@ -455,7 +455,7 @@ is measured apart with `--peak`).
 
 {table(rows)}
 
-Targets (issue 8), as measured in these rows:
+Speed targets (per iteration, precompute, memory, λ and handle changes), as measured in these rows:
 
 {targets(rows, result.get("peak_memory", ()))}
 {busy_ab_table(result)}{roi_table(result)}

@@ -188,7 +188,7 @@ def markdown(info, results):
     if edge50:
         r = edge50[0]
         verdict = "met" if r["updates_per_s"] >= 20 else "NOT met"
-        lines += ["", "Target (issue 3): at least 20 updates a second at 50k vertices, edge "
+        lines += ["", "Live-editing target: at least 20 updates a second at 50k vertices, edge "
                   "domain: **%s** (%.0f/s; %.0f/s counting the depsgraph evaluation)."
                   % (verdict, r["updates_per_s"], r["with_depsgraph_per_s"]),
                   "", "Where the time goes at 50k, edge: the package's `solve` call is "

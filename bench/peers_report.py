@@ -219,7 +219,7 @@ def _value(r, field):
 
 
 def _verdicts(result):
-    """The issue-8 targets this run can speak to, measured (never assumed)."""
+    """The speed targets this run can speak to, measured (never assumed)."""
     out = []
     rat = {(r["size"], r["edit"], r["threads"]): r for r in result.get("ratios", [])}
     rows = {(r["size"], r["edit"], r["method"]): r for r in result["rows"] if "error" not in r}
