@@ -29,6 +29,19 @@ def cell_row(cell):
     return "| " + " | ".join(cells) + " |"
 
 
+def not_converged_note(cells):
+    """Lines naming the cells that stopped at the iteration cap, and whether the solver warned;
+    empty when every cell converged."""
+    late = [c for c in cells if not c["converged"]]
+    if not late:
+        return []
+    return ["", "Not converged: " + "; ".join(
+        "%s (stopped after %d iterations, %s)" % (
+            c["key"], c["iterations"],
+            "with the solver's warning" if c.get("warnings") else "**without a warning**")
+        for c in late) + "."]
+
+
 def sample_markdown(sample):
     out = ["### %s" % sample["title"], "",
            "%d vertices, %d faces; %d handle and %d static vertices." % (
@@ -38,6 +51,7 @@ def sample_markdown(sample):
     out.append("| " + " | ".join(head) + " |")
     out.append("|" + "---|" * len(head))
     out += [cell_row(c) for c in sample["cells"]]
+    out += not_converged_note(sample["cells"])
     if sample.get("painted_regions"):
         out += ["", "Painted materials, per region (edge domain; free vertices only; strain and "
                 "bending over the edges inside the region; distance = mean vertex distance to the uniform result):",

@@ -1,4 +1,5 @@
-"""Unit tests of the demo's NumPy parts (no Blender): regions, per-region metrics, PNG I/O."""
+"""Unit tests of the demo's NumPy parts (no Blender): regions, per-region metrics, PNG I/O,
+the metrics tables."""
 import json
 import os
 import sys
@@ -11,6 +12,7 @@ sys.path[:0] = [os.path.join(REPO, "demo"), os.path.join(REPO, "blend_samples")]
 import deform   # noqa: E402
 import png      # noqa: E402
 import regions  # noqa: E402
+import tables   # noqa: E402
 
 SCENES = regions.load_scenes()
 
@@ -84,3 +86,24 @@ def test_scenes_json_is_the_source():
     with open(regions.SCENES_JSON) as f:
         names = [s["name"] for s in json.load(f)["scenes"]]
     assert names == ["dino", "plane", "head", "spot", "bar"]
+
+
+def _cell(key, converged, iterations, warnings=()):
+    return {"key": key, "domain": "edge", "lambda": 0.0, "converged": converged,
+            "iterations": iterations, "warnings": list(warnings), "handle_error": 0.0,
+            "mean_edge_strain": 0.1, "max_edge_strain": 0.2, "mean_dihedral_change": 0.01,
+            "arap_energy": 1.0, "ms": 3.0}
+
+
+def test_tables_show_iterations_and_name_unconverged_cells():
+    sample = {"title": "t", "vertices": 3, "faces": 1, "handle_vertices": 1,
+              "static_vertices": 1,
+              "cells": [_cell("edge_0", True, 12), _cell("primal_0", False, 3000, ["capped"]),
+                        _cell("primal_1", False, 50)]}
+    md = tables.sample_markdown(sample)
+    assert "| edge_0 | edge | 0 |" in md and "| 12 |" in md and "| 3000 |" in md
+    assert md.count("**no**") == 2
+    assert ("Not converged: primal_0 (stopped after 3000 iterations, with the solver's warning); "
+            "primal_1 (stopped after 50 iterations, **without a warning**).") in md
+    sample["cells"] = sample["cells"][:1]
+    assert "Not converged" not in tables.sample_markdown(sample)
