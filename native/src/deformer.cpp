@@ -370,12 +370,13 @@ void Deformer::iterate(const SolveOptions& options, const Eigen::MatrixXd& c, Ro
     result.energies.push_back(fit.energy);
   }
   std::ostringstream msg;
-  msg << "not converged: stopped at max_iterations (" << options.max_iterations << ") with the estimated distance to the fixed point ";
+  msg << "not converged: stopped at max_iterations (" << options.max_iterations << "); ";
   if (std::isfinite(result.distance_estimate))
-    msg << result.distance_estimate;
+    msg << "the estimated distance to the fixed point is " << result.distance_estimate
+        << " of the bounding-box diagonal (tolerance " << options.tolerance << ")";
   else
-    msg << "unknown (the iteration has not been seen to contract)";
-  msg << " of the bounding-box diagonal, tolerance " << options.tolerance;
+    msg << "the distance to the fixed point is unknown: the iteration has not been seen to contract "
+           "(tolerance " << options.tolerance << " of the bounding-box diagonal)";
   result.warnings.push_back(msg.str());
 }
 
