@@ -146,6 +146,7 @@ class Bound:
     def __init__(self, ob, inputs, binding, base_hash):
         self.ob, self.inputs, self.binding = ob, inputs, binding
         self.base_hash = base_hash   # the base cannot change while a Bound is in use
+        self.output = output_settings(ob)   # what the checks were made for
 
     def warnings(self):
         return engine.missing_controllers(self.inputs)
@@ -180,7 +181,14 @@ class Bound:
         self.binding.last = None
 
     def write(self, X):
+        if output_settings(self.ob) != self.output:
+            raise Refused("The Output settings changed: solve again")
         _write(self.ob, self.binding, X, self.base_hash)
+
+
+def output_settings(ob):
+    """The settings that decide where the output goes (a change needs new checks)."""
+    return ob.edge_deform.output, ob.edge_deform.shape_key_name
 
 
 def prepare(ob, inputs=None, require_handles=True):
