@@ -59,6 +59,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.converged = False
         self.paused = False
         self.problem = None
+        self.refused_for = None
         self.stats = "no solve yet"
         self.updates = 0
         self.budget = engine.IterationBudget()
@@ -76,8 +77,11 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             self.paused = True          # Blender's own tools own the mesh now
             self.show("paused: back to Object Mode to continue")
             return
+        if self.bound is None and self.refused_for == self.settings_key():
+            return                      # refused: wait until the user changes something
         try:
-            if self.paused or self.bound is None:
+            if (self.paused or self.bound is None
+                    or lifecycle.output_settings(ob) != self.bound.output):
                 self.rebind()
             settings_state = (s.stiffness, s.domain)
             if settings_state != self.settings_state:
@@ -97,7 +101,9 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                                  s.tolerance, warm=True)
             self.budget.record(r, (time.perf_counter() - t0) * 1e3)
             self.bound.write(r.positions)
-        except Exception as exc:  # noqa: BLE001 - shown, and retried on the next move
+        except Exception as exc:  # noqa: BLE001 - shown, and retried on the next change
+            if self.bound is None:
+                self.refused_for = self.settings_key()
             message = error_text(exc)
             if message != self.problem:
                 tell(self, 'ERROR', message)
@@ -111,11 +117,20 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.stats = text
         self.show(self.stats)
 
+    def settings_key(self):
+        """What the user may change to fix a refusal (settings, groups, mode)."""
+        ob, s = self.ob, self.ob.edge_deform
+        return (ob.mode, s.output, s.shape_key_name, s.static_group, s.roi_group,
+                s.stiffness_group, s.domain, tuple(h.vertex_group for h in s.handles),
+                tuple(g.name for g in ob.vertex_groups), ob.data.edge_deform_state.written)
+
     def rebind(self):
-        """After a mode switch or a deleted controller: read everything again."""
+        """After a mode switch, an Output change or a deleted controller: check and read
+        everything again."""
         self.paused = False
         self.bound = None
         self.bound = lifecycle.prepare(self.ob)
+        self.settings_state = (self.ob.edge_deform.stiffness, self.ob.edge_deform.domain)
         self.controllers_state = None
         self.converged = False
         for w in self.bound.warnings():
