@@ -384,12 +384,18 @@ def _apply_key(ob, kb):
             ob.active_shape_key_index = keys.key_blocks.find(active)
 
 
+def is_bound(mesh):
+    """Has this mesh a binding (cached solver, or a result it holds)? What the panel's
+    Bind/Unbind swap shows; the same test Unbind uses to say whether it did anything."""
+    return session.get(mesh.as_pointer()) is not None or _state(mesh).output != 'NONE'
+
+
 def unbind(ob):
     """Forget the cache and the stored rest: the mesh as it is becomes the rest. The
     output key stays the add-on's (the next solve writes it again)."""
     mesh = ob.data
     st = _state(mesh)
-    was = session.get(mesh.as_pointer()) is not None or st.output != 'NONE'
+    was = is_bound(mesh)
     session.drop(mesh.as_pointer())
     mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
     if st.output == 'MESH':

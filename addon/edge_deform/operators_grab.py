@@ -36,6 +36,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
 
     @guarded
     def invoke(self, context, event):
+        self.refuse_if_running()
         ob = context.active_object
         moving = np.flatnonzero(mesh_arrays.read_selection(ob))
         bound = None
