@@ -223,11 +223,11 @@ class EDGE_DEFORM_PT_stiffness(_SubPanel, bpy.types.Panel):
         row.enabled = ob.mode in {'EDIT', 'WEIGHT_PAINT'}
         for preset in ("SOFT", "MEDIUM", "RIGID"):
             row.operator("edge_deform.assign_stiffness", text=preset.title()).preset = preset
-        # What the weight colours mean (Weight Paint: red 1, green 0.5, blue 0).
+        # What the weight colours mean (Weight Paint: red = weight 1, blue = 0). Two short
+        # items: three were cut to "Ri…" in a narrow sidebar.
         legend = layout.row(align=True)
         legend.scale_y = 0.8
         legend.label(text="Rigid 1", icon='SEQUENCE_COLOR_01')
-        legend.label(text="0.5", icon='SEQUENCE_COLOR_04')
         legend.label(text="Soft 0", icon='SEQUENCE_COLOR_05')
 
 
