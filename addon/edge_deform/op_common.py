@@ -178,8 +178,20 @@ class ModalTool:
         except ReferenceError:
             pass
 
+    def hold_undo_steps(self, context):
+        """One undo step per session: while the tool runs, the G/R/S moves inside it push
+        no undo steps of their own (Global Undo off), so the step the tool pushes when it
+        ends holds the whole session. end_modal puts the preference back on every exit
+        path, before that step is pushed."""
+        edit = context.preferences.edit
+        self.global_undo = edit.use_global_undo
+        edit.use_global_undo = False
+
     def end_modal(self, context):
         _running.pop(id(self), None)
+        if getattr(self, "global_undo", None) is not None:
+            context.preferences.edit.use_global_undo = self.global_undo
+            self.global_undo = None
         try:
             context.window_manager.event_timer_remove(self.timer)
         except (ReferenceError, ValueError):

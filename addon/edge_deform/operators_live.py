@@ -69,6 +69,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.settle_iterations, self.settle_ms = 0, 0.0   # since the last change
         self.budget = engine.IterationBudget()
         self.start_modal(context, ob)
+        self.hold_undo_steps(context)
         for w in self.bound.warnings():
             tell(self, 'WARNING', w)
         self.update(context)

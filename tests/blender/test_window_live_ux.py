@@ -33,7 +33,7 @@ def ctrl():
 def to_window(p):
     _, area, region = view3d()
     xy = location_3d_to_region_2d(region, area.spaces.active.region_3d, p)
-    return int(region.x + xy.x), int(region.y + xy.y)
+    return None if xy is None else (int(region.x + xy.x), int(region.y + xy.y))
 
 
 def controller_spot():
@@ -44,13 +44,16 @@ def controller_spot():
     c.empty_display_size = 3.0 * max(plane().dimensions)
     bpy.context.view_layer.update()
     mw = plane().matrix_world
-    mesh_px = np.array([to_window(mw @ v.co) for v in plane().data.vertices], float)
+    mesh_px = np.array([p for p in (to_window(mw @ v.co) for v in plane().data.vertices)
+                        if p is not None], float)
     best, best_gap = None, -1.0
     for axis in range(3):
         for sign in (1, -1):
             d = Vector((0, 0, 0))
             d[axis] = sign * 0.8 * c.empty_display_size
             p = to_window(c.matrix_world @ d)
+            if p is None:   # behind the view
+                continue
             _, _, region = view3d()
             inside = (region.x + 20 < p[0] < region.x + region.width - 20
                       and region.y + 20 < p[1] < region.y + region.height - 20)
@@ -171,13 +174,67 @@ def steps():
     tap('RET')
     yield from until(lambda: op_common.running_tool() is None)
     assert op_common.running_tool() is None, "Enter keeps"
+    assert bpy.context.preferences.edit.use_global_undo, "Global Undo is back on"
+    for _ in range(3):   # let the operator push its undo step
+        yield
     kept = key_positions(ob).copy()
-    moved = np.array(ctrl().matrix_world.translation - c0)
+    c1 = ctrl().matrix_world.translation.copy()
+    moved = np.array(c1 - c0)
     assert np.abs(kept[handle].mean(axis=0) - rest[handle].mean(axis=0) - moved).max() < 1e-3
     print("Tab enters and leaves Edit Mode; Enter keeps: ok")
 
+    # ------------------------------------------------------------ one undo step
+    # A new session with two G moves of the controller (Tab into Edit Mode adds Edit-Mode
+    # undo steps of its own: not part of this check).
+    with override():
+        bpy.ops.ed.undo_push(message="before the session")
+    c0 = ctrl().matrix_world.translation.copy()
+    before = key_positions(ob).copy()
+    with override():
+        assert bpy.ops.edge_deform.live('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
+    spot = controller_spot()
+    event('MOUSEMOVE', at=spot)
+    yield
+    tap('LEFTMOUSE', at=spot)
+    yield from until(lambda: bpy.context.view_layer.objects.active == ctrl())
+    for dy in (50, -80):
+        event('MOUSEMOVE', at=center())
+        yield
+        tap('G', at=center())
+        yield
+        event('MOUSEMOVE', at=center(0, dy))
+        yield
+        tap('RET', at=center(0, dy))
+        yield
+    yield from until(lambda: (ctrl().matrix_world.translation - c0).length > 0.05)
+    c1 = ctrl().matrix_world.translation.copy()
+    yield from until(lambda: "settled" in (op_common.running_tool().header_text or "")
+                     and np.abs((key_positions(ob)[handle] - before[handle]).mean(axis=0)
+                                - np.array(c1 - c0)).max() < 1e-3)
+    tap('RET')
+    yield from until(lambda: op_common.running_tool() is None)
+    for _ in range(3):   # let the operator push its undo step
+        yield
+    kept = key_positions(ob).copy()
+    with override():
+        bpy.ops.ed.undo()
+    yield
+    ob = plane()   # undo replaces the datablocks
+    assert (ctrl().matrix_world.translation - c0).length < 1e-6, \
+        "one undo takes the G move inside the session back too"
+    assert np.array_equal(key_positions(ob), before), "one undo: the mesh as before"
+    with override():
+        bpy.ops.ed.redo()
+    yield
+    ob = plane()
+    assert (ctrl().matrix_world.translation - c1).length < 1e-6
+    assert np.array_equal(key_positions(ob), kept), "redo brings the session back"
+    print("one undo step per Live session: ok")
+
     # ------------------------------------------------------------ Bake: Esc, then complete
     scene = bpy.context.scene
+    ob = plane()
+    bpy.context.view_layer.objects.active = ob
     c = ctrl()
     c.keyframe_insert("location", frame=1)
     c.location.z += 0.3
@@ -208,4 +265,5 @@ def steps():
 
 
 main(steps)
+
 
