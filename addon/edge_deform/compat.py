@@ -51,3 +51,13 @@ def status_bar(workspace, draw):
             workspace.status_text_set(lambda header, context: draw(header.layout))
     except ReferenceError:   # the workspace went away (a file load)
         pass
+
+
+def icon(*names):
+    """The first of `names` this Blender has (icons get renamed: SEQUENCE_COLOR_01 is
+    STRIP_COLOR_01 from 4.4 on)."""
+    known = bpy.types.UILayout.bl_rna.functions["label"].parameters["icon"].enum_items
+    for name in names:
+        if name in known:
+            return name
+    return 'NONE'

@@ -10,7 +10,7 @@ get the mesh as their `active_object` (layout.context_pointer_set).
 
 import bpy
 
-from . import lifecycle, op_common, operators_bake
+from . import compat, lifecycle, op_common, operators_bake
 
 
 def deformed_object(context):
@@ -227,8 +227,8 @@ class EDGE_DEFORM_PT_stiffness(_SubPanel, bpy.types.Panel):
         # items: three were cut to "Ri…" in a narrow sidebar.
         legend = layout.row(align=True)
         legend.scale_y = 0.8
-        legend.label(text="Rigid 1", icon='SEQUENCE_COLOR_01')
-        legend.label(text="Soft 0", icon='SEQUENCE_COLOR_05')
+        legend.label(text="Rigid 1", icon=compat.icon('STRIP_COLOR_01', 'SEQUENCE_COLOR_01'))
+        legend.label(text="Soft 0", icon=compat.icon('STRIP_COLOR_05', 'SEQUENCE_COLOR_05'))
 
 
 class EDGE_DEFORM_PT_solver(_SubPanel, bpy.types.Panel):
