@@ -13,8 +13,8 @@ bl_info = {
 
 import bpy
 
-from . import (cache_handlers, operators_bake, operators_bind, operators_grab, operators_groups,
-               operators_live, properties, session, ui)
+from . import (cache_handlers, menus, operators_bake, operators_bind, operators_grab,
+               operators_groups, operators_live, properties, session, ui)
 
 # Where things are: lifecycle.py owns the rest shape, the output and their invalidation;
 # engine.py turns settings into solver inputs; mesh_arrays.py moves bpy data to NumPy;
@@ -23,7 +23,7 @@ from . import (cache_handlers, operators_bake, operators_bind, operators_grab, o
 _register, _unregister = bpy.utils.register_classes_factory(
     properties.CLASSES + operators_groups.CLASSES + operators_bind.CLASSES
     + operators_live.CLASSES + operators_grab.CLASSES + operators_bake.CLASSES
-    + ui.CLASSES)
+    + ui.CLASSES + menus.CLASSES)
 
 
 def register():
@@ -31,9 +31,11 @@ def register():
     properties.register_props()
     operators_bake.register_handlers()
     cache_handlers.register_handlers()
+    menus.register_menus()
 
 
 def unregister():
+    menus.unregister_menus()
     cache_handlers.unregister_handlers()
     operators_bake.unregister_handlers()
     properties.unregister_props()

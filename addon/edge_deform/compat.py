@@ -36,3 +36,28 @@ def mode_set(ob, mode):
     if ob.type == 'MESH':
         repair_selection_attributes(ob.data)
     bpy.ops.object.mode_set(mode=mode)
+
+
+def status_bar(workspace, draw):
+    """Show `draw(layout)` in the status bar (key hints, as Blender's G shows them), or
+    clear it with None. 3.x and 4.x+ both take a callable (header, context); only the
+    layout differs in what icons exist, which `draw` keeps to the ones all versions have."""
+    if workspace is None:
+        return
+    try:
+        if draw is None:
+            workspace.status_text_set(None)
+        else:
+            workspace.status_text_set(lambda header, context: draw(header.layout))
+    except ReferenceError:   # the workspace went away (a file load)
+        pass
+
+
+def icon(*names):
+    """The first of `names` this Blender has (icons get renamed: SEQUENCE_COLOR_01 is
+    STRIP_COLOR_01 from 4.4 on)."""
+    known = bpy.types.UILayout.bl_rna.functions["label"].parameters["icon"].enum_items
+    for name in names:
+        if name in known:
+            return name
+    return 'NONE'

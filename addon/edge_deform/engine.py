@@ -167,14 +167,15 @@ class IterationBudget:
         self.ms_per_iteration = elapsed_ms / max(1, result.iterations)
 
 
-def status(result, elapsed_ms=None):
+def status(result, elapsed_ms=None, iterations=None):
     """The one place where a solve result becomes words for the user: (level, text) lines
-    for reports and headers, and whether the tools may stop iterating."""
+    for reports and headers, and whether the tools may stop iterating. `iterations` and
+    `elapsed_ms` may be totals over several solves (Live settles over many ticks)."""
     # "settled" only when the solver's distance estimate says converged (docs/api.md).
-    text = "%d iterations, %s" % (result.iterations,
-                                  "settled" if result.converged else "settling\u2026")
+    count = result.iterations if iterations is None else iterations
+    text = "%s, %d iterations" % ("settled" if result.converged else "settling…", count)
     if elapsed_ms is not None:
-        text += ", %.1f ms" % elapsed_ms
+        text += ", %.0f ms" % elapsed_ms if elapsed_ms >= 10 else ", %.1f ms" % elapsed_ms
     lines = [('WARNING', w) for w in result.warnings]
     return lines, text, bool(result.converged)
 

@@ -143,8 +143,10 @@ class Bound:
     """A mesh checked and bound for one object's settings: what a tool holds while it
     solves. `write` is the only way a result reaches the mesh."""
 
-    def __init__(self, ob, inputs, binding):
+    def __init__(self, ob, inputs, binding, base_hash):
         self.ob, self.inputs, self.binding = ob, inputs, binding
+        self.base_hash = base_hash   # the base cannot change while a Bound is in use
+        self.output = output_settings(ob)   # what the checks were made for
 
     def warnings(self):
         return engine.missing_controllers(self.inputs)
@@ -184,7 +186,14 @@ class Bound:
         self.binding.last = None
 
     def write(self, X):
-        _write(self.ob, self.binding, X)
+        if output_settings(self.ob) != self.output:
+            raise Refused("The Output settings changed: solve again")
+        _write(self.ob, self.binding, X, self.base_hash)
+
+
+def output_settings(ob):
+    """The settings that decide where the output goes (a change needs new checks)."""
+    return ob.edge_deform.output, ob.edge_deform.shape_key_name
 
 
 def prepare(ob, inputs=None, require_handles=True):
@@ -196,7 +205,7 @@ def prepare(ob, inputs=None, require_handles=True):
     _check_output(ob, digest)
     binding = _binding(mesh, inputs, _rest(mesh), digest)
     binding.inputs_owner = ob.name_full   # a linked duplicate has settings of its own
-    return Bound(ob, inputs, binding)
+    return Bound(ob, inputs, binding, _hash(mesh_arrays.read_positions32(mesh)))
 
 
 def cached_inputs(ob):
@@ -228,7 +237,14 @@ def shown_positions(ob):
 
 # ------------------------------------------------------------------ writing the output
 
-def _write(ob, binding, X):
+def _set(st, **values):
+    """Assign only what changed (each RNA assignment tags the mesh for an update)."""
+    for name, value in values.items():
+        if getattr(st, name) != value:
+            setattr(st, name, value)
+
+
+def _write(ob, binding, X, base_hash):
     s, mesh = ob.edge_deform, ob.data
     st = _state(mesh)
     co = np.ascontiguousarray(X, np.float32)
@@ -247,17 +263,14 @@ def _write(ob, binding, X):
             kb.value, kb.mute = 1.0, False      # later: the user's mix is left alone
             ob.active_shape_key_index = active
         mesh_arrays.write_key(kb, co)
-        st.output, st.output_key = 'SHAPE_KEY', kb.name
-        st.written = _hash(co)
-        st.base = _hash(mesh_arrays.read_positions32(mesh))
+        _set(st, output='SHAPE_KEY', output_key=kb.name, written=_hash(co), base=base_hash)
         mesh.shape_keys.update_tag()
     else:
         if st.output != 'MESH':
             mesh_arrays.write_vector_attribute(mesh, REST_ATTRIBUTE, binding.X)
         _move_base(mesh, co)
-        st.output, st.output_key = 'MESH', ""
-        st.written = _hash(co)
-    st.topology = binding.digest
+        _set(st, output='MESH', output_key="", written=_hash(co))
+    _set(st, topology=binding.digest)
     mesh.update()
 
 
@@ -376,12 +389,18 @@ def _apply_key(ob, kb):
             ob.active_shape_key_index = keys.key_blocks.find(active)
 
 
+def is_bound(mesh):
+    """Has this mesh a binding (cached solver, or a result it holds)? What the panel's
+    Bind/Unbind swap shows; the same test Unbind uses to say whether it did anything."""
+    return session.get(mesh.as_pointer()) is not None or _state(mesh).output != 'NONE'
+
+
 def unbind(ob):
     """Forget the cache and the stored rest: the mesh as it is becomes the rest. The
     output key stays the add-on's (the next solve writes it again)."""
     mesh = ob.data
     st = _state(mesh)
-    was = session.get(mesh.as_pointer()) is not None or st.output != 'NONE'
+    was = is_bound(mesh)
     session.drop(mesh.as_pointer())
     mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
     if st.output == 'MESH':

@@ -73,6 +73,33 @@ def guarded(method):
     return execute
 
 
+# Callables (event, text) told when long work starts ('begin') and ends ('end').
+progress_listeners = []
+
+
+@contextlib.contextmanager
+def busy(context, text):
+    """Long work on the main thread (Bind, Solve, Bake): Blender's progress indicator and
+    wait cursor, and what is happening in the status bar, until the work ends.
+    Yields update(fraction) for work that knows how far it got."""
+    wm, window = context.window_manager, context.window
+    for listen in progress_listeners:
+        listen('begin', text)
+    wm.progress_begin(0.0, 1.0)
+    if window is not None:
+        window.cursor_modal_set('WAIT')
+    compat.status_bar(context.workspace, lambda layout: layout.label(text=text, icon='TIME'))
+    try:
+        yield wm.progress_update
+    finally:
+        wm.progress_end()
+        if window is not None:
+            window.cursor_modal_restore()
+        compat.status_bar(context.workspace, None)
+        for listen in progress_listeners:
+            listen('end', text)
+
+
 def report_lines(op, lines):
     for level, text in lines:
         tell(op, level, text)
@@ -91,10 +118,31 @@ def object_mode(ob):
             compat.mode_set(ob, previous)
 
 
+# The modal tools running now: {id(tool): tool}. One at a time: a second Live or Grab
+# would write the same output and its cancel would throw away the first's.
+_running = {}
+
+
+def running_tool(ob=None):
+    """The tool running (on `ob`, when given), or None."""
+    for tool in _running.values():
+        if ob is None or tool.object_name == ob.name_full:
+            return tool
+    return None
+
+
 class ModalTool:
     """What Live and Grab share: a timer, the header, the snapshot for a bit-exact cancel,
     and noticing that undo or a deletion replaced the data they hold (then they end
     cleanly instead of touching a removed object)."""
+
+    @staticmethod
+    def refuse_if_running():
+        """Before anything changes: a second session is refused, the first goes on."""
+        for tool in _running.values():
+            raise engine.EdgeDeformError(
+                "%s is already running on '%s': confirm it (Enter) or cancel it (Esc) "
+                "first" % (tool.bl_label, tool.object_name))
 
     def start_modal(self, context, ob):
         from . import cache_handlers, lifecycle
@@ -102,9 +150,12 @@ class ModalTool:
         self.snapshot = lifecycle.Snapshot(ob)
         self.generation = cache_handlers.generation()
         self.area = context.area
+        self.workspace = context.workspace
         wm = context.window_manager
         self.timer = wm.event_timer_add(1.0 / 60.0, window=context.window)
         wm.modal_handler_add(self)
+        self.object_name = ob.name_full
+        _running[id(self)] = self
 
     def lost(self):
         """None while the tool's object is usable, else why not (for the report)."""
@@ -120,18 +171,33 @@ class ModalTool:
         return None
 
     def header(self, text):
+        self.header_text = text   # (what the window tests read back)
         try:
             if self.area is not None:
                 self.area.header_text_set(text)
         except ReferenceError:
             pass
 
+    def hold_undo_steps(self, context):
+        """One undo step per session: while the tool runs, the G/R/S moves inside it push
+        no undo steps of their own (Global Undo off), so the step the tool pushes when it
+        ends holds the whole session. end_modal puts the preference back on every exit
+        path, before that step is pushed."""
+        edit = context.preferences.edit
+        self.global_undo = edit.use_global_undo
+        edit.use_global_undo = False
+
     def end_modal(self, context):
+        _running.pop(id(self), None)
+        if getattr(self, "global_undo", None) is not None:
+            context.preferences.edit.use_global_undo = self.global_undo
+            self.global_undo = None
         try:
             context.window_manager.event_timer_remove(self.timer)
         except (ReferenceError, ValueError):
             pass
         self.header(None)
+        compat.status_bar(self.workspace, None)
 
     def restore(self, context):
         """Esc: the mesh back bit-exact (leaving Edit Mode first if the user entered it).

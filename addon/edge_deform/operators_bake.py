@@ -7,7 +7,7 @@ from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, IntProperty
 
 from . import engine, lifecycle
-from .op_common import error_text, guarded, poll_mesh, tell
+from .op_common import busy, error_text, guarded, poll_mesh, tell
 
 _state = {"baking": False, "errors": {}}
 
@@ -51,44 +51,113 @@ class EDGE_DEFORM_OT_bake(bpy.types.Operator):
     bl_label = "Bake Frames"
     bl_options = {'REGISTER', 'UNDO'}
 
-    use_scene_range: BoolProperty(name="Scene Range", default=True)
-    frame_start: IntProperty(name="Start", default=1)
-    frame_end: IntProperty(name="End", default=250)
-    frame_step: IntProperty(name="Step", default=1, min=1)
-    iterations: IntProperty(name="Iterations per Frame", default=10, min=1)
+    use_scene_range: BoolProperty(name="Scene Range", default=True,
+                                  description="Bake the scene's frame range")
+    frame_start: IntProperty(name="Start", default=1, description="First frame to bake")
+    frame_end: IntProperty(name="End", default=250, description="Last frame to bake")
+    frame_step: IntProperty(name="Step", default=1, min=1,
+                            description="Bake every n-th frame; playback blends between")
+    iterations: IntProperty(name="Refinement per Frame", default=10, min=1,
+                            description="Refinement passes on each frame (more: closer to "
+                                        "the stiffness, slower)")
 
     @classmethod
     def poll(cls, context):
         return poll_mesh(cls, context, ('OBJECT',), need_handles=True)
 
-    @guarded
-    def execute(self, context):
-        ob, scene = context.active_object, context.scene
-        s = ob.edge_deform
+    def frames(self, scene):
         start, end = ((scene.frame_start, scene.frame_end) if self.use_scene_range
                       else (self.frame_start, self.frame_end))
         if end < start:
             raise engine.EdgeDeformError("the frame range is empty")
-        frames = list(range(start, end + 1, self.frame_step))
-        frame0 = scene.frame_current
+        return list(range(start, end + 1, self.frame_step))
+
+    def begin(self, context):
+        """Check and bind; nothing is written before every frame is solved."""
+        self.ob, self.scene = context.active_object, context.scene
+        self.todo = self.frames(self.scene)
+        self.frame0 = self.scene.frame_current
+        self.results = []
+        self.bound = lifecycle.prepare(self.ob)
+        self.bound.binding.last = None   # the first frame solves from scratch
+
+    def solve_next(self):
+        """Solve the next frame (the frame handler is held off meanwhile)."""
         _state["baking"] = True
         try:
-            bound = lifecycle.prepare(ob)
-            bound.binding.last = None   # frame `start` solves from scratch
-            results = []
-            for f in frames:   # solve everything first: on error nothing is written
-                scene.frame_set(f)
-                results.append(bound.solve(bound.targets(), self.iterations,
-                                           s.tolerance).positions)
+            self.scene.frame_set(self.todo[len(self.results)])
+            self.results.append(self.bound.solve(self.bound.targets(), self.iterations,
+                                                 self.ob.edge_deform.tolerance).positions)
         finally:
-            scene.frame_set(frame0)
+            self.scene.frame_set(self.frame0)
             _state["baking"] = False
-        made = lifecycle.write_baked(ob, frames, results, self.frame_step)
+
+    def write(self):
+        ob, s = self.ob, self.ob.edge_deform
+        made = lifecycle.write_baked(ob, self.todo, self.results, self.frame_step)
         s.animate = False
-        scene.frame_set(frame0)
+        self.scene.frame_set(self.frame0)
         tell(self, 'INFO', "Baked %d frames (%d-%d) into shape keys '%s.####'"
-                    % (len(made), frames[0], frames[-1], s.shape_key_name))
+             % (len(made), self.todo[0], self.todo[-1], s.shape_key_name))
+
+    @guarded
+    def execute(self, context):
+        self.begin(context)
+        with busy(context, "Baking %d frames…" % len(self.todo)) as progress:
+            while len(self.results) < len(self.todo):
+                self.solve_next()
+                progress(len(self.results) / len(self.todo))
+        self.write()
         return {'FINISHED'}
+
+    @guarded
+    def invoke(self, context, event):
+        """From the UI: one frame per timer tick, so the window redraws, shows
+        "Frame 12/24" and Esc cancels with the data as before."""
+        self.begin(context)
+        self.busy = busy(context, "Baking %d frames…  Esc: cancel" % len(self.todo))
+        self.progress = self.busy.__enter__()
+        self.area = context.area
+        wm = context.window_manager
+        self.timer = wm.event_timer_add(0.001, window=context.window)
+        wm.modal_handler_add(self)
+        return {'RUNNING_MODAL'}
+
+    def modal(self, context, event):
+        if event.type == 'ESC' and event.value == 'PRESS':
+            self.stop(context)
+            tell(self, 'WARNING', "Bake cancelled after %d of %d frames; nothing was "
+                                  "written" % (len(self.results), len(self.todo)))
+            return {'CANCELLED'}
+        if event.type != 'TIMER':
+            return {'RUNNING_MODAL'}   # the rest of the UI waits for the bake
+        try:
+            self.solve_next()
+            self.progress(len(self.results) / len(self.todo))
+            if self.area is not None:
+                self.area.header_text_set("Baking: frame %d/%d  (Esc: cancel)"
+                                          % (len(self.results), len(self.todo)))
+            if len(self.results) < len(self.todo):
+                return {'RUNNING_MODAL'}
+            self.stop(context)
+            self.write()
+            return {'FINISHED'}
+        except Exception as exc:  # noqa: BLE001 - reported; nothing written on error
+            self.stop(context)
+            tell(self, 'ERROR', error_text(exc))
+            return {'CANCELLED'}
+
+    def stop(self, context):
+        context.window_manager.event_timer_remove(self.timer)
+        try:
+            if self.area is not None:
+                self.area.header_text_set(None)
+        except ReferenceError:
+            pass
+        self.busy.__exit__(None, None, None)
+
+    def cancel(self, context):   # the window closes or a file loads
+        self.stop(context)
 
 
 def register_handlers():

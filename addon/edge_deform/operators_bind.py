@@ -7,12 +7,12 @@ import bpy
 from bpy.props import BoolProperty
 
 from . import engine, lifecycle
-from .op_common import guarded, poll_mesh, report_lines, tell
+from .op_common import busy, guarded, poll_mesh, report_lines, tell
 
 
 class EDGE_DEFORM_OT_bind(bpy.types.Operator):
-    """Triangulate, build the graph and factor the system; current controller transforms
-    and the current mesh become the rest"""
+    """Get the mesh ready to deform: the mesh and controllers as they are now become the
+    rest pose. Takes a moment on big meshes; every later update is quick"""
     bl_idname = "edge_deform.bind"
     bl_label = "Bind"
     bl_options = {'REGISTER', 'UNDO'}
@@ -23,7 +23,9 @@ class EDGE_DEFORM_OT_bind(bpy.types.Operator):
 
     @guarded
     def execute(self, context):
-        binding = lifecycle.bind(context.active_object)
+        ob = context.active_object
+        with busy(context, "Binding '%s' (%d vertices)…" % (ob.name, len(ob.data.vertices))):
+            binding = lifecycle.bind(ob)
         d = binding.deformer
         tell(self, 'INFO', "Bound %d vertices, %d nodes (%s), %.1f ms"
                     % (d.n_vertices, d.n_nodes, binding.domain.lower(), binding.bind_ms))
@@ -31,15 +33,15 @@ class EDGE_DEFORM_OT_bind(bpy.types.Operator):
 
 
 class EDGE_DEFORM_OT_solve(bpy.types.Operator):
-    """Deform once from the current controller transforms"""
+    """Deform the mesh once to follow where the controllers are now"""
     bl_idname = "edge_deform.solve"
     bl_label = "Solve"
     bl_options = {'REGISTER', 'UNDO'}
 
     warm_start: BoolProperty(
         name="Warm Start", default=False,
-        description="Start from the previous result (else from the naive Laplacian solve, "
-                    "repeatable for the same inputs)")
+        description="Continue from the last result (faster); off gives the same shape "
+                    "every time for the same controllers")
 
     @classmethod
     def poll(cls, context):
@@ -47,8 +49,10 @@ class EDGE_DEFORM_OT_solve(bpy.types.Operator):
 
     @guarded
     def execute(self, context):
+        ob = context.active_object
         t0 = time.perf_counter()
-        bound, r = lifecycle.deform(context.active_object, warm=self.warm_start)
+        with busy(context, "Deforming '%s'…" % ob.name):
+            bound, r = lifecycle.deform(ob, warm=self.warm_start)
         lines, text, _ = engine.status(r, (time.perf_counter() - t0) * 1e3)
         report_lines(self, [('WARNING', w) for w in bound.warnings()] + lines)
         tell(self, 'INFO', "Solved: " + text)
@@ -74,8 +78,8 @@ class EDGE_DEFORM_OT_apply(bpy.types.Operator):
 
 
 class EDGE_DEFORM_OT_unbind(bpy.types.Operator):
-    """Forget the binding (cached factorization and stored rest shape); the mesh and the
-    shape key are left as they are"""
+    """Release the mesh: the next Bind or Solve takes the mesh as it is now as its rest
+    pose. The mesh and its shape key stay as they are"""
     bl_idname = "edge_deform.unbind"
     bl_label = "Unbind"
     bl_options = {'REGISTER', 'UNDO'}

@@ -36,8 +36,10 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
 
     @guarded
     def invoke(self, context, event):
+        self.refuse_if_running()
         ob = context.active_object
         moving = np.flatnonzero(mesh_arrays.read_selection(ob))
+        bound = None
         try:
             if moving.size == 0:
                 raise engine.EdgeDeformError("Select the vertices to drag")
@@ -53,6 +55,8 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             pinned = np.setdiff1d(inputs.handles, moving)
             bound.use_constraints(np.concatenate([moving, pinned]), inputs.static, inputs.roi)
         except Exception:
+            if bound is not None:
+                bound.release()   # the settings' constraints return on the next sync
             if ob.mode != 'EDIT':
                 bpy.ops.object.mode_set(mode='EDIT')
             raise

@@ -31,7 +31,8 @@ class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
     bl_label = "Add Handle"
     bl_options = {'REGISTER', 'UNDO'}
 
-    name: StringProperty(name="Name", default="Handle")
+    name: StringProperty(name="Name", default="Handle",
+                         description="Name of the new vertex group (and its controller)")
 
     @classmethod
     def poll(cls, context):
@@ -90,6 +91,7 @@ class _SetGroup:
     bl_options = {'REGISTER', 'UNDO'}
     field = ""
     default = ""
+    takes_from_handles = False   # Static: a vertex cannot be pinned and moved at once
 
     @classmethod
     def poll(cls, context):
@@ -102,6 +104,10 @@ class _SetGroup:
             return {'CANCELLED'}
         name = getattr(ob.edge_deform, self.field) or self.default
         with object_mode(ob):
+            if self.takes_from_handles:   # as Add Handle takes them out of Static
+                for handle in ob.edge_deform.handles:
+                    if handle.vertex_group in ob.vertex_groups:
+                        ob.vertex_groups[handle.vertex_group].remove(idx.tolist())
             vg = mesh_arrays.assign_group(ob, name, idx, 1.0, replace_all=True)
         setattr(ob.edge_deform, self.field, vg.name)
         tell(self, 'INFO', "%s group '%s': %d vertices" % (self.bl_label.split()[-1],
@@ -110,14 +116,15 @@ class _SetGroup:
 
 
 class EDGE_DEFORM_OT_set_static(_SetGroup, bpy.types.Operator):
-    """The selected vertices become the static group: they never move"""
+    """Pin the selected vertices: they never move (and stop being handles)"""
     bl_idname = "edge_deform.set_static"
     bl_label = "Set Static"
     field, default = "static_group", STATIC_DEFAULT
+    takes_from_handles = True
 
 
 class EDGE_DEFORM_OT_set_roi(_SetGroup, bpy.types.Operator):
-    """The selected vertices become the region of interest: only they may move"""
+    """Only the selected vertices may move; the rest of the mesh stays put"""
     bl_idname = "edge_deform.set_roi"
     bl_label = "Set Region"
     field, default = "roi_group", ROI_DEFAULT
@@ -136,8 +143,33 @@ def ensure_stiffness_group(ob):
     return ob.vertex_groups[name]
 
 
+def _stiffness_targets(op, ob):
+    """The vertices Assign Stiffness acts on, as Blender's Set Weight chooses them: in
+    Weight Paint the masked vertices when a selection mask is on, else every vertex (never
+    a selection left over from Edit Mode, which Weight Paint does not show); in Edit Mode
+    the selection."""
+    me = ob.data
+    if ob.mode != 'WEIGHT_PAINT':
+        return _selected(op, ob)
+    if me.use_paint_mask_vertex:
+        return _selected(op, ob)
+    if me.use_paint_mask:   # face mask: the vertices of the selected faces
+        sel = np.zeros(len(me.polygons), bool)
+        me.polygons.foreach_get("select", sel)
+        total = np.zeros(len(me.polygons), np.int64)
+        me.polygons.foreach_get("loop_total", total)
+        corners = np.zeros(len(me.loops), np.int64)
+        me.loops.foreach_get("vertex_index", corners)
+        idx = np.unique(corners[np.repeat(sel, total)])
+        if idx.size == 0:
+            op.report({'ERROR'}, "No faces selected")
+        return idx
+    return np.arange(len(me.vertices))
+
+
 class EDGE_DEFORM_OT_assign_stiffness(bpy.types.Operator):
-    """Give the selected vertices a stiffness λ in the stiffness group"""
+    """Set the stiffness of the selected vertices (Weight Paint: the masked vertices, or
+    the whole mesh without a mask), like Set Weight"""
     bl_idname = "edge_deform.assign_stiffness"
     bl_label = "Assign Stiffness"
     bl_options = {'REGISTER', 'UNDO'}
@@ -145,10 +177,12 @@ class EDGE_DEFORM_OT_assign_stiffness(bpy.types.Operator):
     preset: EnumProperty(
         name="Preset", default='VALUE',
         items=[('VALUE', "Value", "Use the value below"),
-               ('SOFT', "Soft", "λ = 0: smooth, Laplacian only"),
-               ('MEDIUM', "Medium", "λ = 0.5"),
-               ('RIGID', "Rigid", "λ = 1: keeps edge lengths")])
-    value: FloatProperty(name="λ", default=1.0, min=0.0, max=1.0)
+               ('SOFT', "Soft", "λ = 0: bends smoothly like rubber (blue)"),
+               ('MEDIUM', "Medium", "λ = 0.5: in between (green)"),
+               ('RIGID', "Rigid", "λ = 1: keeps its shape (red)")],
+        description="The stiffness to give")
+    value: FloatProperty(name="λ", default=1.0, min=0.0, max=1.0,
+                         description="Stiffness for Value: 1 rigid, 0 soft")
 
     @classmethod
     def poll(cls, context):
@@ -156,7 +190,7 @@ class EDGE_DEFORM_OT_assign_stiffness(bpy.types.Operator):
 
     def execute(self, context):
         ob = context.active_object
-        idx = _selected(self, ob)
+        idx = _stiffness_targets(self, ob)
         if idx.size == 0:
             return {'CANCELLED'}
         lam = PRESETS.get(self.preset, self.value)
@@ -168,7 +202,7 @@ class EDGE_DEFORM_OT_assign_stiffness(bpy.types.Operator):
 
 
 class EDGE_DEFORM_OT_paint_stiffness(bpy.types.Operator):
-    """Weight Paint the stiffness group (weight = λ: 1 rigid, 0 smooth)"""
+    """Paint the stiffness in Weight Paint (red = rigid, blue = soft)"""
     bl_idname = "edge_deform.paint_stiffness"
     bl_label = "Paint Stiffness"
     bl_options = {'REGISTER', 'UNDO'}

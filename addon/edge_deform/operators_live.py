@@ -15,12 +15,15 @@ import time
 
 import bpy
 
-from . import engine, lifecycle
+from . import compat, engine, lifecycle
 from .op_common import ModalTool, error_text, guarded, poll_mesh, tell
 
 LAMBDA_STEP = 0.05
-KEYS_UP = {'WHEELUPMOUSE', 'NUMPAD_PLUS', 'PLUS', 'EQUAL'}
-KEYS_DOWN = {'WHEELDOWNMOUSE', 'NUMPAD_MINUS', 'MINUS'}
+# λ keys that shadow no navigation: ] / [ and Ctrl+wheel (the plain wheel and numpad +/-
+# zoom, Tab switches modes, clicks select: Live passes all of them on).
+KEYS_UP = {'RIGHT_BRACKET', 'WHEELUPMOUSE'}
+KEYS_DOWN = {'LEFT_BRACKET', 'WHEELDOWNMOUSE'}
+WHEEL = {'WHEELUPMOUSE', 'WHEELDOWNMOUSE'}
 
 
 def in_region(area, event, region_type='WINDOW'):
@@ -35,8 +38,8 @@ def in_region(area, event, region_type='WINDOW'):
 
 
 class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
-    """Deform live while controllers move. Wheel/+/-: λ, Tab: domain,
-    Enter/click: confirm, Esc/right click: cancel"""
+    """Deform the mesh while you move its controllers (select and move them as usual).
+    [ ] or Ctrl+Wheel: stiffness, Enter: keep, Esc: cancel"""
     bl_idname = "edge_deform.live"
     bl_label = "Live Deform"
     bl_options = {'REGISTER', 'UNDO'}
@@ -48,6 +51,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
 
     @guarded
     def invoke(self, context, event):
+        self.refuse_if_running()
         ob = context.active_object
         s = ob.edge_deform
         self.bound = lifecycle.prepare(ob)          # refuses before anything changes
@@ -59,10 +63,13 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.converged = False
         self.paused = False
         self.problem = None
+        self.refused_for = None
         self.stats = "no solve yet"
         self.updates = 0
+        self.settle_iterations, self.settle_ms = 0, 0.0   # since the last change
         self.budget = engine.IterationBudget()
         self.start_modal(context, ob)
+        self.hold_undo_steps(context)
         for w in self.bound.warnings():
             tell(self, 'WARNING', w)
         self.update(context)
@@ -76,8 +83,11 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             self.paused = True          # Blender's own tools own the mesh now
             self.show("paused: back to Object Mode to continue")
             return
+        if self.bound is None and self.refused_for == self.settings_key():
+            return                      # refused: wait until the user changes something
         try:
-            if self.paused or self.bound is None:
+            if (self.paused or self.bound is None
+                    or lifecycle.output_settings(ob) != self.bound.output):
                 self.rebind()
             settings_state = (s.stiffness, s.domain)
             if settings_state != self.settings_state:
@@ -91,13 +101,17 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                 state = engine.controller_state(ob, self.bound.inputs)
             if state == self.controllers_state and self.converged:
                 return
+            if state != self.controllers_state:
+                self.settle_iterations, self.settle_ms = 0, 0.0
             self.controllers_state = state
             t0 = time.perf_counter()
             r = self.bound.solve(self.bound.targets(), self.budget.iterations(s.iterations),
                                  s.tolerance, warm=True)
             self.budget.record(r, (time.perf_counter() - t0) * 1e3)
             self.bound.write(r.positions)
-        except Exception as exc:  # noqa: BLE001 - shown, and retried on the next move
+        except Exception as exc:  # noqa: BLE001 - shown, and retried on the next change
+            if self.bound is None:
+                self.refused_for = self.settings_key()
             message = error_text(exc)
             if message != self.problem:
                 tell(self, 'ERROR', message)
@@ -106,27 +120,53 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             self.show(message)
             return
         self.problem = None
-        _, text, self.converged = engine.status(r, (time.perf_counter() - t0) * 1e3)
+        self.settle_iterations += r.iterations
+        self.settle_ms += (time.perf_counter() - t0) * 1e3
+        _, text, self.converged = engine.status(r, self.settle_ms, self.settle_iterations)
         self.updates += 1
         self.stats = text
         self.show(self.stats)
 
+    def settings_key(self):
+        """What the user may change to fix a refusal (settings, groups, mode)."""
+        ob, s = self.ob, self.ob.edge_deform
+        return (ob.mode, s.output, s.shape_key_name, s.static_group, s.roi_group,
+                s.stiffness_group, s.domain, tuple(h.vertex_group for h in s.handles),
+                tuple(g.name for g in ob.vertex_groups), ob.data.edge_deform_state.written)
+
     def rebind(self):
-        """After a mode switch or a deleted controller: read everything again."""
+        """After a mode switch, an Output change or a deleted controller: check and read
+        everything again."""
         self.paused = False
         self.bound = None
         self.bound = lifecycle.prepare(self.ob)
+        self.settings_state = (self.ob.edge_deform.stiffness, self.ob.edge_deform.domain)
         self.controllers_state = None
         self.converged = False
         for w in self.bound.warnings():
             tell(self, 'WARNING', w)
 
     def show(self, stats):
+        """A short header (what is happening) and the keys in the status bar."""
         s = self.ob.edge_deform
-        lam = "group" if s.stiffness_group else "%.2f" % s.stiffness
-        self.header("Edge Deform live | move controllers: G/R/S, gizmo | Wheel/+/-: λ %s | "
-                    "Tab: domain %s | Enter/Click: confirm | Esc/Right click: cancel | %s"
-                    % (lam, s.domain.title(), stats))
+        lam = ("painted (%s)" % s.stiffness_group if s.stiffness_group
+               else "%.2f" % s.stiffness)
+        self.header("Live Deform: %s | λ %s" % (stats, lam))
+        # Drawn later by Blender, maybe after undo replaced the object: plain values only.
+        self.painted = s.stiffness_group
+        compat.status_bar(self.workspace, self.draw_keys)
+
+    def draw_keys(self, layout):
+        """Key hints the way Blender's G shows them (icons from 3.4 to 5.0)."""
+        layout.label(text="Keep", icon='EVENT_RETURN')
+        layout.label(text="Cancel", icon='EVENT_ESC')
+        layout.label(text="Move controllers: G / R / S or gizmo", icon='MOUSE_LMB')
+        if self.painted:
+            layout.label(text="Stiffness: painted group", icon='BRUSH_DATA')
+        else:
+            layout.label(text="[ ]  Stiffness", icon='NONE')
+            layout.label(text="", icon='EVENT_CTRL')
+            layout.label(text="Stiffness", icon='MOUSE_MMB')
 
     # ------------------------------------------------------------ events
 
@@ -147,26 +187,30 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             self.update(context)
             return {'PASS_THROUGH'}
         if event.value == 'PRESS' and self.ob.mode == 'OBJECT':
-            if event.type in KEYS_UP | KEYS_DOWN and not (event.ctrl or event.alt):
-                step = LAMBDA_STEP if event.type in KEYS_UP else -LAMBDA_STEP
-                s.stiffness = min(1.0, max(0.0, round(s.stiffness + step, 4)))
-                self.update(context)
-                return {'RUNNING_MODAL'}
-            if event.type == 'TAB':
-                s.domain = 'PRIMAL' if s.domain == 'EDGE' else 'EDGE'
-                self.update(context)
+            wheel = event.type in WHEEL
+            if (event.type in KEYS_UP | KEYS_DOWN and wheel == event.ctrl
+                    and not (event.alt or event.shift) and in_region(self.area, event)):
+                self.change_stiffness(context, event.type in KEYS_UP)
                 return {'RUNNING_MODAL'}
             if event.type in {'RET', 'NUMPAD_ENTER'}:
                 return self.finish(context)
             if event.type == 'Z' and (event.ctrl or event.oskey):
                 tell(self, 'WARNING', "Confirm or cancel Live Deform before undoing")
                 return {'RUNNING_MODAL'}
-        if event.value == 'PRESS' and event.type in {'ESC', 'RIGHTMOUSE'}:
+        if event.value == 'PRESS' and event.type == 'ESC':
             return self.cancel_and_restore(context)
-        if (event.type == 'LEFTMOUSE' and event.value == 'CLICK' and self.ob.mode == 'OBJECT'
-                and in_region(self.area, event)):
-            return self.finish(context)
         return {'PASS_THROUGH'}
+
+    def change_stiffness(self, context, up):
+        s = self.ob.edge_deform
+        if s.stiffness_group:
+            # The painted group decides λ: a hidden global value must not change.
+            tell(self, 'WARNING', "Stiffness comes from the painted group '%s': paint it, "
+                                  "or clear the group to use one value" % s.stiffness_group)
+            return
+        step = LAMBDA_STEP if up else -LAMBDA_STEP
+        s.stiffness = min(1.0, max(0.0, round(s.stiffness + step, 4)))
+        self.update(context)
 
     def finish(self, context):
         self.update(context)   # the last controller move may not be solved yet

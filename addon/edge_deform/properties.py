@@ -19,47 +19,61 @@ class EdgeDeformHandle(bpy.types.PropertyGroup):
     # moves by (ob.matrix_world⁻¹ @ controller.matrix_world) @ rest_matrix⁻¹.
     rest_matrix: FloatVectorProperty(
         name="Rest Matrix", size=(4, 4), subtype='MATRIX', default=IDENTITY,
+        description="Where the controller was, relative to the mesh, at Bind",
         options={'HIDDEN'})
 
 
 class EdgeDeformSettings(bpy.types.PropertyGroup):
-    handles: CollectionProperty(type=EdgeDeformHandle)
-    active_handle: IntProperty(name="Active Handle", default=0, min=0)
+    handles: CollectionProperty(
+        type=EdgeDeformHandle, name="Handles",
+        description="Groups of vertices that follow a controller object")
+    active_handle: IntProperty(name="Active Handle", default=0, min=0,
+                               description="The handle selected in the list")
     static_group: StringProperty(
         name="Static", description="Vertex group that never moves (empty: none)")
     roi_group: StringProperty(
         name="Region", description="Only these vertices may move (empty: whole mesh)")
     stiffness_group: StringProperty(
         name="Stiffness Group",
-        description="Vertex group whose weight is λ per vertex (empty: use the global λ). "
-                    "Vertices outside the group have λ = 0")
+        description="Paintable stiffness: each vertex's weight is its λ (red 1 rigid, blue "
+                    "0 soft). Overrides the λ slider; vertices outside the group are soft")
     stiffness: FloatProperty(
         name="Stiffness λ", default=0.5, min=0.0, max=1.0,
-        description="Global λ: 1 = rigid (edge lengths kept), 0 = smooth (Laplacian)")
+        description="How stiff the whole mesh is: 1 = rigid, keeps its shape and edge "
+                    "lengths; 0 = soft, bends smoothly like rubber")
     domain: EnumProperty(
         name="Domain", default='EDGE',
-        items=[('EDGE', "Edge Graph", "Nodes are edge midpoints (the paper's method)"),
-               ('PRIMAL', "Primal", "Nodes are vertices (classic ARAP-like graph)")])
+        description="How the mesh is modelled while it deforms",
+        items=[('EDGE', "Edge Graph", "Even bending that follows the stiffness closely "
+                "(recommended)"),
+               ('PRIMAL', "Vertex Graph", "A lighter model on the vertices: faster to "
+                "bind, bends less evenly; can inflate when very soft")])
     iterations: IntProperty(
         name="Iterations", default=4, min=1, max=1000,
-        description="Local/global iterations per update")
+        description="Refinement passes per update: more passes match the stiffness more "
+                    "closely but take longer")
     tolerance: FloatProperty(
         name="Tolerance", default=1e-3, min=0.0, max=1.0, precision=6,
-        description="Converged (settled) when the estimated largest vertex distance to the "
-                    "solution is below this fraction of the bounding-box diagonal")
+        description="How close to the final shape counts as settled, as a fraction of the "
+                    "object's size (smaller: more accurate, slower)")
     acceleration: EnumProperty(
         name="Acceleration", default='ANDERSON',
-        items=[('ANDERSON', "Anderson", "Accelerated iteration (same result, fewer iterations)"),
-               ('NONE', "None", "Plain local/global iteration")])
+        description="How updates approach the final shape",
+        items=[('ANDERSON', "Fast", "Reaches the same shape in fewer passes (recommended)"),
+               ('NONE', "Plain", "One plain pass at a time: slower, for comparison")])
     output: EnumProperty(
         name="Output", default='SHAPE_KEY',
+        description="Where the deformed shape goes",
         items=[('SHAPE_KEY', "Shape Key", "Write into the shape key 'EdgeDeform'; "
                 "the base mesh stays untouched"),
                ('MESH', "Mesh", "Write into the base mesh")])
-    shape_key_name: StringProperty(name="Shape Key", default="EdgeDeform")
+    shape_key_name: StringProperty(
+        name="Shape Key", default="EdgeDeform",
+        description="Name of the shape key that shows the deformation (made by Edge "
+                    "Deform; not the Basis or one of your own keys)")
     animate: BoolProperty(
         name="Deform on Frame Change", default=False,
-        description="Re-solve on every frame change (animated controllers)")
+        description="Follow animated controllers: deform again on every frame change")
 
 
 class EdgeDeformMeshState(bpy.types.PropertyGroup):

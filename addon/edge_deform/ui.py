@@ -1,28 +1,73 @@
-"""The "Edge Deform" tab in the 3D Viewport sidebar."""
+"""The "Edge Deform" tab in the 3D Viewport sidebar: a main panel with the actions and
+collapsible sub-panels (Handles, Groups, Stiffness, Solver, Animation), like Blender's own
+tools. Labels sit above fields whose values are long (vertex group names), so everything
+stays readable at the default sidebar width.
+
+The panel also shows while a controller of a deformed mesh is active (the artist picked it
+in the viewport or the Outliner to move it): it then works on that mesh, and its buttons
+get the mesh as their `active_object` (layout.context_pointer_set).
+"""
 
 import bpy
 
-from . import operators_bake
+from . import compat, lifecycle, op_common, operators_bake
+
+
+def deformed_object(context):
+    """The mesh the panel works on: the active mesh, or the mesh whose handle the active
+    object controls. None when there is neither."""
+    ob = context.active_object
+    if ob is None:
+        return None
+    if ob.type == 'MESH':
+        return ob
+    for other in context.scene.objects:
+        s = getattr(other, "edge_deform", None) if other.type == 'MESH' else None
+        if s is not None and any(h.controller == ob for h in s.handles):
+            return other
+    return None
+
+
+def target(layout, context):
+    """The deformed mesh; the layout's operators act on it (even from a controller)."""
+    ob = deformed_object(context)
+    layout.context_pointer_set("active_object", ob)
+    layout.context_pointer_set("object", ob)
+    return ob
+
+
+class _Panel:
+    bl_space_type = 'VIEW_3D'
+    bl_region_type = 'UI'
+    bl_category = "Edge Deform"
+
+    @classmethod
+    def poll(cls, context):
+        return deformed_object(context) is not None
+
 
 
 class EDGE_DEFORM_UL_handles(bpy.types.UIList):
+    """Handle rows: the vertex group's name and its controller's, as plain text (fields
+    would shrink to a letter each); the active handle's fields are edited below the list."""
+
     def draw_item(self, context, layout, data, item, icon, active_data, active_prop):
-        ob = data.id_data
         row = layout.row(align=True)
-        row.prop_search(item, "vertex_group", ob, "vertex_groups", text="", icon='GROUP_VERTEX')
-        row.prop(item, "controller", text="", icon='EMPTY_AXIS')
+        row.label(text=item.vertex_group or "(no group)", icon='GROUP_VERTEX')
+        row.label(text=item.controller.name if item.controller else "(no controller)",
+                  icon='EMPTY_AXIS')
 
 
 class EDGE_DEFORM_OT_select_controller(bpy.types.Operator):
-    """Select the active handle's controller (to move it with G/R/S or its gizmo)"""
+    """Make the active handle's controller the active, only selected object, ready to move
+    with G/R/S or its gizmo (the Edge Deform tab stays open)"""
     bl_idname = "edge_deform.select_controller"
     bl_label = "Select Controller"
     bl_options = {'REGISTER', 'UNDO'}
 
     @classmethod
     def poll(cls, context):
-        ob = context.active_object
-        return ob is not None and ob.type == 'MESH' and len(ob.edge_deform.handles) > 0
+        return op_common.poll_mesh(cls, context, ('OBJECT',), need_handles=True)
 
     def execute(self, context):
         ob = context.active_object
@@ -31,92 +76,201 @@ class EDGE_DEFORM_OT_select_controller(bpy.types.Operator):
         if controller is None:
             self.report({'ERROR'}, "This handle has no controller")
             return {'CANCELLED'}
+        if controller.name not in context.view_layer.objects:
+            self.report({'ERROR'}, "The controller is not in this view layer")
+            return {'CANCELLED'}
+        for other in context.view_layer.objects:
+            if other is not None and other != controller:
+                other.select_set(False)
         controller.select_set(True)
+        context.view_layer.objects.active = controller
         return {'FINISHED'}
 
 
-class EDGE_DEFORM_PT_main(bpy.types.Panel):
-    bl_label = "Edge Deform"
-    bl_space_type = 'VIEW_3D'
-    bl_region_type = 'UI'
-    bl_category = "Edge Deform"
+class EDGE_DEFORM_OT_select_mesh(bpy.types.Operator):
+    """Make the deformed mesh active again (after moving one of its controllers)"""
+    bl_idname = "edge_deform.select_mesh"
+    bl_label = "Select Mesh"
+    bl_options = {'REGISTER', 'UNDO'}
 
     @classmethod
     def poll(cls, context):
-        return context.active_object is not None and context.active_object.type == 'MESH'
+        return op_common.poll_mesh(cls, context, ('OBJECT',))
+
+    def execute(self, context):
+        ob = context.active_object
+        if ob.name not in context.view_layer.objects:
+            return {'CANCELLED'}
+        for other in context.view_layer.objects:
+            if other is not None and other != ob:
+                other.select_set(False)
+        ob.select_set(True)
+        context.view_layer.objects.active = ob
+        return {'FINISHED'}
+
+
+class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
+    bl_label = "Edge Deform"
+
+    def draw_header(self, context):
+        ob = deformed_object(context)
+        if ob is not None and operators_bake.frame_problem(ob):
+            self.layout.label(text="", icon='ERROR')
 
     def draw(self, context):
         layout = self.layout
-        ob = context.active_object
+        ob = target(self.layout, context)
         s = ob.edge_deform
-        edit = ob.mode == 'EDIT'
+        bound = lifecycle.is_bound(ob.data)
+        active = context.active_object
+        if active != ob:
+            row = layout.row()
+            row.label(text="Controller of '%s'" % ob.name, icon='EMPTY_AXIS')
+            row.operator("edge_deform.select_mesh", text="", icon='RESTRICT_SELECT_OFF')
 
-        box = layout.box()
-        box.label(text="Handles", icon='EMPTY_AXIS')
-        row = box.row()
-        row.template_list("EDGE_DEFORM_UL_handles", "", s, "handles", s, "active_handle",
-                          rows=2)
-        col = row.column(align=True)
-        col.operator("edge_deform.add_handle", text="", icon='ADD')
-        col.operator("edge_deform.remove_handle", text="", icon='REMOVE')
-        col.operator("edge_deform.select_controller", text="", icon='RESTRICT_SELECT_OFF')
-
-        box = layout.box()
-        box.label(text="Groups", icon='GROUP_VERTEX')
-        for field, op in (("static_group", "edge_deform.set_static"),
-                          ("roi_group", "edge_deform.set_roi")):
-            row = box.row(align=True)
-            row.prop_search(s, field, ob, "vertex_groups")
-            row.operator(op, text="", icon='ADD')
-
-        box = layout.box()
-        box.label(text="Stiffness (λ: 1 rigid, 0 smooth)", icon='MOD_PHYSICS')
-        box.prop(s, "stiffness", slider=True)
-        row = box.row(align=True)
-        row.prop_search(s, "stiffness_group", ob, "vertex_groups", text="Group")
-        row.operator("edge_deform.paint_stiffness", text="", icon='BRUSH_DATA')
-        row = box.row(align=True)
-        row.enabled = ob.mode in {'EDIT', 'WEIGHT_PAINT'}
-        for preset in ("SOFT", "MEDIUM", "RIGID"):
-            row.operator("edge_deform.assign_stiffness", text=preset.title()).preset = preset
-        op = box.operator("edge_deform.assign_stiffness", text="Assign λ to Selection")
-        op.preset, op.value = 'VALUE', s.stiffness
-
-        box = layout.box()
-        box.label(text="Solver", icon='SETTINGS')
-        box.prop(s, "domain", expand=True)
-        if s.domain == 'PRIMAL' and not s.stiffness_group and s.stiffness < 0.1:
-            # Measured: the primal graph with lambda ~ 0 can drift and inflate (docs/benchmarks.md).
-            box.label(text="Primal with λ near 0 may inflate: use Edge Graph or λ ≥ 0.1",
-                      icon='ERROR')
-        row = box.row(align=True)
-        row.prop(s, "iterations")
-        row.prop(s, "tolerance")
-        box.prop(s, "acceleration")
-        box.prop(s, "output", expand=True)
-        if s.output == 'SHAPE_KEY':
-            box.prop(s, "shape_key_name")
+        running = op_common.running_tool(ob)
+        if running:
+            layout.label(text="%s: Enter keeps, Esc cancels" % running.bl_label,
+                         icon='REC')
+        elif not s.handles:
+            layout.label(text="Add a handle: Edit Mode, select, +", icon='INFO')
+        elif bound:
+            layout.label(text="Bound (%s)" % ("edge graph" if s.domain == 'EDGE'
+                                              else "primal"), icon='LINKED')
+        else:
+            layout.label(text="Not bound", icon='UNLINKED')
 
         col = layout.column(align=True)
-        col.scale_y = 1.2
-        if edit:
+        col.scale_y = 1.3
+        if ob.mode == 'EDIT':
             col.operator("edge_deform.grab", icon='VIEW_PAN')
         else:
             col.operator("edge_deform.live", icon='PLAY')
+        col = layout.column(align=True)
         row = col.row(align=True)
-        row.operator("edge_deform.bind")
-        row.operator("edge_deform.solve")
-        row = col.row(align=True)
-        row.operator("edge_deform.apply")
-        row.operator("edge_deform.unbind")
-
-        box = layout.box()
-        box.label(text="Animation", icon='ANIM')
-        box.prop(s, "animate")
+        # Bind and Unbind swap, as in Laplacian Deform: one of them at a time.
+        if bound:
+            row.operator("edge_deform.unbind", icon='UNLINKED')
+        else:
+            row.operator("edge_deform.bind", icon='LINKED')
+        row.operator("edge_deform.solve", icon='FILE_REFRESH')
+        col.operator("edge_deform.apply", icon='CHECKMARK')
         problem = operators_bake.frame_problem(ob) if s.animate else None
         if problem:
-            box.label(text=problem, icon='ERROR')
-        box.operator("edge_deform.bake")
+            layout.label(text=problem, icon='ERROR')
 
 
-CLASSES = (EDGE_DEFORM_UL_handles, EDGE_DEFORM_OT_select_controller, EDGE_DEFORM_PT_main)
+class _SubPanel(_Panel):
+    bl_parent_id = "EDGE_DEFORM_PT_main"
+
+
+class EDGE_DEFORM_PT_handles(_SubPanel, bpy.types.Panel):
+    bl_label = "Handles"
+
+    def draw(self, context):
+        layout = self.layout
+        ob = target(self.layout, context)
+        s = ob.edge_deform
+        row = layout.row()
+        row.template_list("EDGE_DEFORM_UL_handles", "", s, "handles", s, "active_handle",
+                          rows=3)
+        col = row.column(align=True)
+        col.operator("edge_deform.add_handle", text="", icon='ADD')
+        col.operator("edge_deform.remove_handle", text="", icon='REMOVE')
+        col.separator()
+        col.operator("edge_deform.select_controller", text="", icon='RESTRICT_SELECT_OFF')
+        if s.handles:
+            item = s.handles[min(s.active_handle, len(s.handles) - 1)]
+            col = layout.column()
+            col.label(text="Vertex Group")
+            col.prop_search(item, "vertex_group", ob, "vertex_groups", text="")
+            col.label(text="Controller")
+            col.prop(item, "controller", text="")
+
+
+class EDGE_DEFORM_PT_groups(_SubPanel, bpy.types.Panel):
+    bl_label = "Static and Region"
+
+    def draw(self, context):
+        layout = self.layout
+        ob = target(self.layout, context)
+        s = ob.edge_deform
+        for field, op, label in (("static_group", "edge_deform.set_static", "Static"),
+                                 ("roi_group", "edge_deform.set_roi", "Region (optional)")):
+            layout.label(text=label)
+            row = layout.row(align=True)
+            row.prop_search(s, field, ob, "vertex_groups", text="")
+            row.operator(op, text="", icon='ADD')
+
+
+class EDGE_DEFORM_PT_stiffness(_SubPanel, bpy.types.Panel):
+    bl_label = "Stiffness"
+
+    def draw(self, context):
+        layout = self.layout
+        ob = target(self.layout, context)
+        s = ob.edge_deform
+        row = layout.row()
+        row.active = not s.stiffness_group   # a group overrides the global value
+        row.prop(s, "stiffness", slider=True, text="λ")
+        layout.label(text="Painted Stiffness Group")
+        row = layout.row(align=True)
+        row.prop_search(s, "stiffness_group", ob, "vertex_groups", text="")
+        row.operator("edge_deform.paint_stiffness", text="", icon='BRUSH_DATA')
+        if s.stiffness_group:
+            layout.label(text="The group overrides λ", icon='INFO')
+        row = layout.row(align=True)
+        row.enabled = ob.mode in {'EDIT', 'WEIGHT_PAINT'}
+        for preset in ("SOFT", "MEDIUM", "RIGID"):
+            row.operator("edge_deform.assign_stiffness", text=preset.title()).preset = preset
+        # What the weight colours mean (Weight Paint: red = weight 1, blue = 0). Two short
+        # items: three were cut to "Ri…" in a narrow sidebar.
+        legend = layout.row(align=True)
+        legend.scale_y = 0.8
+        legend.label(text="Rigid 1", icon=compat.icon('STRIP_COLOR_01', 'SEQUENCE_COLOR_01'))
+        legend.label(text="Soft 0", icon=compat.icon('STRIP_COLOR_05', 'SEQUENCE_COLOR_05'))
+
+
+class EDGE_DEFORM_PT_solver(_SubPanel, bpy.types.Panel):
+    bl_label = "Solver"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        layout = self.layout
+        ob = target(self.layout, context)
+        s = ob.edge_deform
+        layout.row().prop(s, "domain", expand=True)
+        if s.domain == 'PRIMAL' and not s.stiffness_group and s.stiffness < 0.1:
+            # Measured: the primal graph with lambda ~ 0 can drift and inflate (docs/benchmarks.md).
+            col = layout.column(align=True)
+            col.label(text="Vertex graph with λ near 0", icon='ERROR')
+            col.label(text="may inflate: use Edge Graph")
+        col = layout.column(align=True)
+        col.prop(s, "iterations")
+        col.prop(s, "tolerance")
+        layout.row().prop(s, "acceleration", expand=True)
+        layout.label(text="Output")
+        layout.row().prop(s, "output", expand=True)
+        if s.output == 'SHAPE_KEY':
+            layout.prop(s, "shape_key_name", text="Key")
+
+
+class EDGE_DEFORM_PT_animation(_SubPanel, bpy.types.Panel):
+    bl_label = "Animation"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        layout = self.layout
+        ob = target(self.layout, context)
+        s = ob.edge_deform
+        layout.prop(s, "animate")
+        problem = operators_bake.frame_problem(ob) if s.animate else None
+        if problem:
+            layout.label(text=problem, icon='ERROR')
+        layout.operator("edge_deform.bake", icon='REC')
+
+
+CLASSES = (EDGE_DEFORM_UL_handles, EDGE_DEFORM_OT_select_controller,
+           EDGE_DEFORM_OT_select_mesh, EDGE_DEFORM_PT_main, EDGE_DEFORM_PT_handles,
+           EDGE_DEFORM_PT_groups, EDGE_DEFORM_PT_stiffness, EDGE_DEFORM_PT_solver,
+           EDGE_DEFORM_PT_animation)

@@ -111,6 +111,30 @@ def test_apply_uses_value_and_mute():
             assert np.abs(base - (rest + 0.3 * (K - rest))).max() < TOL
 
 
+def test_apply_with_key_group_and_keys_relative_to_it():
+    """The output key limited by a vertex group, and a user's key relative to the output
+    key: Apply keeps the visible shape and that key's offset (now from the basis)."""
+    ob, ctrl, handle, static, rest = setup()
+    lift(ctrl)
+    assert bpy.ops.edge_deform.solve() == {'FINISHED'}
+    half = np.flatnonzero(rest[:, 1] > np.median(rest[:, 1]))
+    ob.vertex_groups.new(name="Half").add(half.tolist(), 0.5, 'REPLACE')
+    out_key = ob.data.shape_keys.key_blocks["EdgeDeform"]
+    out_key.vertex_group = "Half"
+    on_top = add_user_key(ob, "OnTop", rest, 0.7)
+    on_top.relative_key = out_key
+    on_top.data.foreach_set("co", (key_positions(ob).astype(np.float64)
+                                   + [0, 0, 0.02]).astype(np.float32).ravel())
+    offset = key_offsets(ob)["OnTop"]
+    shown = visible(ob)
+    assert bpy.ops.edge_deform.apply() == {'FINISHED'}
+    keys = ob.data.shape_keys.key_blocks
+    assert keys.keys() == ["Basis", "OnTop"]
+    assert keys["OnTop"].relative_key == keys["Basis"]
+    assert np.abs(key_offsets(ob)["OnTop"] - offset).max() < TOL
+    assert np.abs(visible(ob) - shown).max() < TOL
+
+
 def test_mesh_output_with_user_keys():
     ob, ctrl, handle, static, rest = setup('MESH')
     add_user_key(ob, "Smile", rest, 0.5)
@@ -454,6 +478,7 @@ def test_frame_handler_problem_is_shown():
 
 if __name__ == "__main__":
     run([test_apply_keeps_visible_shape_and_user_keys, test_apply_uses_value_and_mute,
+         test_apply_with_key_group_and_keys_relative_to_it,
          test_mesh_output_with_user_keys, test_output_key_names_refused,
          test_topology_change_with_output_key, test_mesh_output_edits_are_never_reverted,
          test_shape_key_edits_are_never_reverted, test_output_mode_switch_refused,

@@ -81,7 +81,8 @@ def draw_everything(context):
             if hasattr(panel, method):
                 getattr(panel, method)(stub, context)
     for ui_list in addon_classes(bpy.types.UIList):
-        ob = context.active_object
+        from edge_deform import ui
+        ob = ui.deformed_object(context)
         for item in ob.edge_deform.handles:
             ui_list.draw_item(ui_list, context, RecordingLayout(calls), ob.edge_deform, item,
                               0, ob.edge_deform, "active_handle")
@@ -100,8 +101,14 @@ def test_panels_draw_with_this_blenders_api():
     # Several states, so that the panels' branches draw: no handle, a handle, bound and
     # solved, the other output and domain.
     seen.update(draw_everything(context))
-    add_handle(ob, "H")
+    ctrl = add_handle(ob, "H")
     seen.update(draw_everything(context))
+    # A controller active (picked to move it): the panels draw for its mesh.
+    bpy.context.view_layer.objects.active = ctrl
+    calls = draw_everything(context)
+    assert "template_list" in calls, "the panels must draw for a controller"
+    seen.update(calls)
+    bpy.context.view_layer.objects.active = ob
     assert bpy.ops.edge_deform.solve() == {'FINISHED'}
     ob.edge_deform.output, ob.edge_deform.domain = 'MESH', 'PRIMAL'
     seen.update(draw_everything(context))

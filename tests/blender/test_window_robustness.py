@@ -6,6 +6,8 @@
     Mode with the original mesh bit-exact (vertices, faces, no leftover key);
   - the same, back to Object Mode first: Live binds the new topology and goes on; Esc
     still restores the original;
+  - the output name changed to "Basis" during Live: refused, the base never written; a
+    valid name renames the add-on's key; Esc restores;
   - a controller deleted during Live: a warning, the handle returns to rest; Ctrl+Z is
     refused with a message;
   - Grab Deform: Ctrl+Z during the drag is ignored, Esc restores; Enter, then undo and
@@ -142,6 +144,29 @@ def steps():
         assert ctrl().location.z == z0, "the controller is back"
         print("topology edit during live, then Esc (back to Object Mode first: %s): ok"
               % back_to_object)
+
+    # ------------------------------------------------------------ output renamed during live
+    ob, handle, static, rest = fresh()
+    start_live()
+    ctrl().location.z += 0.3
+    yield from until(live_follows(handle, rest, 0.3))
+    told.messages.clear()
+    ob.edge_deform.shape_key_name = "Basis"   # typed in the panel while Live runs
+    ctrl().location.z += 0.1
+    yield from until(lambda: told.has('ERROR', "cannot be 'Basis'"))
+    assert told.has('ERROR', "cannot be 'Basis'"), told.messages
+    assert np.array_equal(positions(ob.data), rest), "the base was never written"
+    assert ob.data.shape_keys.key_blocks.keys() == ["Basis", "EdgeDeform"]
+    ob.edge_deform.shape_key_name = "Deform"  # a valid name: Live goes on, renaming its key
+    yield from until(lambda: ob.data.shape_keys.key_blocks.keys() == ["Basis", "Deform"]
+                     and abs(key_positions(ob, "Deform")[handle[0], 2]
+                             - rest[handle[0], 2] - 0.4) < 1e-4)
+    assert ob.data.shape_keys.key_blocks.keys() == ["Basis", "Deform"]
+    tap('ESC')
+    yield from until(lambda: plane().data.shape_keys is None)
+    assert plane().data.shape_keys is None and np.array_equal(positions(plane().data), rest)
+    assert plane().edge_deform.shape_key_name == "Deform"
+    print("output renamed during live (refused, then renamed): ok")
 
     # ------------------------------------------------------------ controller deleted
     ob, handle, static, rest = fresh()
