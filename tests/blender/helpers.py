@@ -62,6 +62,14 @@ def activate(ob):
     ob.select_set(True)
 
 
+def select_only(mesh, idx):
+    """Select exactly the vertices `idx` (no edges or faces) in Object Mode data."""
+    sel = np.zeros(len(mesh.vertices), bool)
+    sel[idx] = True
+    mesh.vertices.foreach_set("select", sel)
+    clear_edge_face_selection(mesh)   # else Edit Mode flushes them back
+
+
 def clear_edge_face_selection(mesh):
     """Deselect every edge and face (the vertex selection is the caller's)."""
     stored = [mesh.attributes[n] for n in (".select_edge", ".select_poly")

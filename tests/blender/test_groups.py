@@ -6,8 +6,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from helpers import (bpy, clear_edge_face_selection, expect_error, load, make_object,  # noqa
-                     np, positions, run)
+from helpers import (bpy, expect_error, load, make_object,  # noqa
+                     np, positions, run, select_only)
 
 
 def members(ob, name):
@@ -25,10 +25,7 @@ def select(ob, idx):
     """Select exactly `idx` and enter Edit Mode (as any selection tool would leave it)."""
     if ob.mode != 'OBJECT':
         bpy.ops.object.mode_set(mode='OBJECT')
-    sel = np.zeros(len(ob.data.vertices), bool)
-    sel[idx] = True
-    ob.data.vertices.foreach_set("select", sel)
-    clear_edge_face_selection(ob.data)   # else Edit Mode flushes them back
+    select_only(ob.data, idx)
     ob.data.update()
     bpy.ops.object.mode_set(mode='EDIT')
 

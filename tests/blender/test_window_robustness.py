@@ -18,8 +18,19 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from helpers import Told, bpy, key_positions, np, positions  # noqa: E402
+from helpers import Told, bpy, key_positions, np, positions, select_only  # noqa: E402
 from window_harness import center, event, main, override, setup, tap, until  # noqa: E402
+
+
+def grab_until_moved(ob, handle, rest):
+    """Start Grab Deform over the viewport and drag until every handle vertex has moved."""
+    event('MOUSEMOVE', at=center())
+    yield
+    with override():
+        assert bpy.ops.edge_deform.grab('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
+    event('MOUSEMOVE', at=center(0, 70))
+    yield from until(lambda: ob.data.shape_keys is not None and np.linalg.norm(
+        key_positions(ob)[handle] - rest[handle], axis=1).min() > 0.01)
 
 
 def plane():
@@ -193,22 +204,12 @@ def steps():
 
     # ------------------------------------------------------------ grab: Ctrl+Z, undo, redo
     ob, handle, static, rest = fresh()
-    sel = np.zeros(len(rest), bool)
-    sel[handle] = True
-    ob.data.vertices.foreach_set("select", sel)
-    for items in (ob.data.edges, ob.data.polygons):
-        items.foreach_set("select", np.zeros(len(items), bool))
+    select_only(ob.data, handle)
     bpy.context.view_layer.objects.active = ob
     with override():
         bpy.ops.object.mode_set(mode='EDIT')
         bpy.ops.ed.undo_push(message="edit mode")
-    event('MOUSEMOVE', at=center())
-    yield
-    with override():
-        assert bpy.ops.edge_deform.grab('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
-    event('MOUSEMOVE', at=center(0, 70))
-    yield from until(lambda: ob.data.shape_keys is not None and np.linalg.norm(
-        key_positions(ob)[handle] - rest[handle], axis=1).min() > 0.01)
+    yield from grab_until_moved(ob, handle, rest)
     tap('Z', at=center(0, 70), ctrl=True)      # ignored while dragging
     for _ in range(3):
         yield
@@ -220,13 +221,7 @@ def steps():
     assert ob.data.shape_keys is None and np.array_equal(positions(ob.data), rest)
     with override():
         bpy.ops.object.mode_set(mode='EDIT')
-    event('MOUSEMOVE', at=center())
-    yield
-    with override():
-        assert bpy.ops.edge_deform.grab('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
-    event('MOUSEMOVE', at=center(0, 70))
-    yield from until(lambda: ob.data.shape_keys is not None and np.linalg.norm(
-        key_positions(ob)[handle] - rest[handle], axis=1).min() > 0.01)
+    yield from grab_until_moved(ob, handle, rest)
     tap('RET', at=center(0, 70))
     yield from until(lambda: ob.mode == 'EDIT')
     for _ in range(3):

@@ -14,7 +14,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from helpers import bpy, key_positions, np, positions  # noqa: E402
+from helpers import bpy, key_positions, np, positions, select_only  # noqa: E402
 from window_harness import (center, event, main, override, screenshot,  # noqa: E402
                             setup, tap, until)
 
@@ -155,11 +155,7 @@ def steps():
     ob = plane()
     ob.shape_key_clear()
     ob.data.update()
-    sel = np.zeros(len(rest), bool)
-    sel[handle] = True
-    ob.data.vertices.foreach_set("select", sel)
-    for items in (ob.data.edges, ob.data.polygons):
-        items.foreach_set("select", np.zeros(len(items), bool))
+    select_only(ob.data, handle)
     bpy.context.view_layer.objects.active = ob
     with override():
         bpy.ops.object.mode_set(mode='EDIT')
