@@ -71,7 +71,7 @@ def main(argv=None):
     ap.add_argument("--markdown", default=None)
     args = ap.parse_args(argv)
     import edgedeform as ed
-    from edgedeform.mesh_io import read_mesh
+    from edgedeform.mesh_files import read_mesh
     rows = []
     for name in MESHES:
         V, F = read_mesh(HERE.parent / "tests" / "data" / name)

@@ -15,7 +15,7 @@ vertex is within 1e-3 diag of the reference; ms = factorization + local + rhs + 
 reported by the core (Python overhead excluded).
 
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_convergence.py
-        [--meshes dino,plane] [--budget 2000] [--koala] [--markdown docs/benchmarks.md]
+        [--meshes dino,plane] [--budget 2000] [--koala | --koala-only] [--markdown docs/benchmarks.md]
 
 Prints a table, writes bench/results/convergence.json and bench/results/convergence.png.
 """
@@ -41,6 +41,7 @@ KOALA = ROOT.parent / "shared" / "meshes" / "koala.obj"
 LAMBDAS = (0.0, 0.5, 1.0)
 DOMAINS = ("edge", "primal")
 GOAL = 1e-3
+CHECKPOINTS = {1, 10, 25, 50, 100, 200, 400, 600, 800, 1000, 1200, 1500, 2000}
 
 
 def diag(V):
@@ -87,24 +88,43 @@ def reference(d, targets, chunk=500, cap=3000):
     return np.asarray(r.positions), float(r.residuals[-1]), total
 
 
+def cached_reference(d, mesh, edit_name, domain, lam, targets, cap=4000):
+    """reference(), kept in bench/results/cache/ (not committed): on the 50k koala it takes
+    thousands of iterations. Reused only for the same targets."""
+    cache = HERE / "results" / "cache" / f"reference_{mesh}_{edit_name}_{domain}_{lam:g}.npz"
+    if cache.exists():
+        z = np.load(cache)
+        if np.array_equal(z["targets"], targets):
+            return z["X"], float(z["residual"]), int(z["iterations"])
+    X, res, its = reference(d, targets, cap=cap)
+    cache.parent.mkdir(parents=True, exist_ok=True)
+    np.savez(cache, X=X, targets=targets, residual=res, iterations=its)
+    return X, res, its
+
+
 def refactor(d, lam):
     """Make the next solve factorize again, as a first solve does."""
     d.set_stiffness(0.25 if lam != 0.25 else 0.3)
     d.set_stiffness(lam)
 
 
-def iterations_to_goal(d, targets, X_ref, dg, acceleration, budget, lam):
-    """(iterations, ms) until within GOAL*diag of X_ref, or (None, ms) after budget."""
+def iterations_to_goal(d, targets, X_ref, dg, acceleration, budget, lam, trace=None, window=5):
+    """(iterations, ms) until within GOAL*diag of X_ref, or (None, ms) after budget.
+    `trace`, a list, gets (iteration, residual, estimate, true distance) at checkpoints."""
     refactor(d, lam)
     r = d.solve(targets, max_iterations=1, tolerance=0.0, warm_start=False,
-                acceleration=acceleration)
+                acceleration=acceleration, anderson_window=window)
     ms, its = core_ms(r), 1
     while True:
-        if np.linalg.norm(np.asarray(r.positions) - X_ref, axis=1).max() <= GOAL * dg:
+        dist = np.linalg.norm(np.asarray(r.positions) - X_ref, axis=1).max() / dg
+        if trace is not None and (its in CHECKPOINTS or dist <= GOAL):
+            trace.append((its, float(r.residuals[-1]), float(r.distance_estimate), float(dist)))
+        if dist <= GOAL:
             return its, ms
         if its >= budget or not np.all(np.isfinite(r.positions)):
             return None, ms
-        r = d.solve(targets, max_iterations=1, tolerance=0.0, acceleration=acceleration)
+        r = d.solve(targets, max_iterations=1, tolerance=0.0, acceleration=acceleration,
+                    anderson_window=window)
         ms += core_ms(r)
         its += 1
 
@@ -171,30 +191,71 @@ def summary(rows, budget):
                                                   default=None)}
 
 
-def koala(ed, log):
-    from edgedeform.mesh_io import read_mesh
+def koala(ed, log, budget=1500, windows=()):
+    """The 50k koala lift (edge, lambda 0.5): iterations and core ms to 1e-3 diag of the
+    reference, with the true distance along the way; the default solve, timed."""
+    from edgedeform.mesh_files import read_mesh
     V, F = read_mesh(KOALA)
     handles, static, targets = edit(V, "lift")
     dg = diag(V)
     d = ed.Deformer(V, F, domain="edge")
     d.set_constraints(handles=handles, static=static)
     d.set_stiffness(0.5)
-    X_ref, res, its = reference(d, targets, cap=1500)
+    X_ref, res, its = cached_reference(d, "koala", "lift", "edge", 0.5, targets)
     out = {"mesh": "koala", "vertices": len(V), "reference_residual": res,
-           "reference_iterations": its}
+           "reference_iterations": its, "budget": budget}
     for acc in ("anderson", "none"):
-        n, ms = iterations_to_goal(d, targets, X_ref, dg, acc, 1500, 0.5)
-        out[acc] = {"iterations": n, "core_ms": ms}
+        trace = []
+        n, ms = iterations_to_goal(d, targets, X_ref, dg, acc, budget, 0.5, trace)
+        out[acc] = {"iterations": n, "core_ms": ms, "trace": trace}
+        log(f"koala {acc}: {n} iterations, {ms:.0f} ms; (iteration, residual, estimate, "
+            f"distance): {trace}")
+    for w in windows:       # other Anderson windows than the default
+        trace = []
+        n, ms = iterations_to_goal(d, targets, X_ref, dg, "anderson", budget, 0.5, trace, w)
+        out[f"anderson_window_{w}"] = {"iterations": n, "core_ms": ms, "trace": trace}
+        log(f"koala anderson window {w}: {n} iterations; {trace}")
     refactor(d, 0.5)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     r = d.solve(targets, warm_start=False)
-    wall = (time.perf_counter() - t0) * 1e3
     out["default"] = {"iterations": int(r.iterations), "converged": bool(r.converged),
-                      "wall_ms": wall, "factor_ms": float(r.factor_ms),
+                      "estimate": float(r.distance_estimate),
+                      "wall_ms": (time.perf_counter() - t0) * 1e3,
+                      "cpu_ms": (time.process_time() - c0) * 1e3, "core_ms": core_ms(r),
+                      "factor_ms": float(r.factor_ms),
                       "distance": float(np.linalg.norm(np.asarray(r.positions) - X_ref,
                                                        axis=1).max() / dg)}
-    log(f"koala 50k lift edge 0.5: {out}")
+    log(f"koala default solve: {out['default']}")
     return out
+
+
+def koala_markdown(k, machine):
+    a, p, dflt = k["anderson"], k["none"], k["default"]
+    b = k["budget"]
+    rows = ["| iteration | residual | estimate | true distance |", "|---|---|---|---|"]
+    rows += [f"| {i} | {r:.1e} | {e:.1e} | {t:.1e} |" for i, r, e, t in a["trace"]]
+    return "\n".join([
+        "### Koala, 50k vertices (target: 1e-3·diag in ≤ 1.5 s) (bench_convergence.py --koala)",
+        "",
+        f"Machine: {machine['cpu']}, {machine['cores']} cores shared with other jobs (load "
+        f"{machine['load_1min']:.1f}), {machine['date']}. Lift, edge domain, λ = 0.5. "
+        f"Reference: {k['reference_iterations']} iterations, residual {k['reference_residual']:.1e}.",
+        "",
+        f"- Anderson to 1e-3·diag of the reference: {fmt_its(a['iterations'], b)} iterations, "
+        f"{a['core_ms']:.0f} core ms including the factorization; plain: "
+        f"{fmt_its(p['iterations'], b)} iterations, {p['core_ms']:.0f} ms.",
+        f"- Default solve: {dflt['iterations']} iterations, converged = {dflt['converged']} "
+        f"(estimate {dflt['estimate']:.1e}), true distance {dflt['distance']:.1e}·diag, "
+        f"{dflt['wall_ms'] / 1e3:.1f} s wall ({dflt['factor_ms']:.0f} ms factorization).",
+        *[f"- Anderson, window {key.rsplit('_', 1)[1]}: {fmt_its(v['iterations'], b)} "
+          f"iterations to 1e-3·diag; true distance " + ", ".join(
+              f"{t:.1e} at {i}" for i, _, _, t in v["trace"] if i in (100, 400, 800, b))
+          for key, v in k.items() if key.startswith("anderson_window_")],
+        "",
+        "The accelerated iteration (default, window 5) along the way:",
+        "",
+        *rows,
+    ])
 
 
 def plot(rows, path, budget):
@@ -294,7 +355,10 @@ def main(argv=None):
     ap.add_argument("--meshes", default=",".join(SAMPLES))
     ap.add_argument("--edits", default="lift,twist,bend")
     ap.add_argument("--budget", type=int, default=2000)
-    ap.add_argument("--koala", action="store_true")
+    ap.add_argument("--koala", action="store_true", help="also the 50k koala lift")
+    ap.add_argument("--koala-only", action="store_true", help="only the 50k koala lift")
+    ap.add_argument("--koala-windows", default="",
+                    help="koala: also these Anderson windows, e.g. 10,20")
     ap.add_argument("--markdown", default=None)
     ap.add_argument("--from-json", default=None)
     args = ap.parse_args(argv)
@@ -304,8 +368,17 @@ def main(argv=None):
         write_outputs(result, out, args.markdown)
         return
     import edgedeform as ed
-    from edgedeform.mesh_io import read_mesh
+    from edgedeform.mesh_files import read_mesh
 
+    if args.koala_only:
+        k = koala(ed, lambda s: print(s, flush=True),
+                  windows=[int(w) for w in args.koala_windows.split(",") if w])
+        out.mkdir(exist_ok=True)
+        (out / "convergence_koala.json").write_text(
+            json.dumps({"machine": machine_info(), "koala": k}, indent=1))
+        if args.markdown:
+            replace_section(args.markdown, "convergence-koala", koala_markdown(k, machine_info()))
+        return
     result = {"machine": machine_info(), "budget": args.budget, "goal": GOAL, "rows": []}
     print(HEADER, flush=True)
     for name in args.meshes.split(","):
@@ -318,7 +391,8 @@ def main(argv=None):
     result["summary"] = summary(result["rows"], args.budget)
     print(json.dumps(result["summary"]))
     if args.koala:
-        result["koala"] = koala(ed, lambda s: print(s, flush=True))
+        result["koala"] = koala(ed, lambda s: print(s, flush=True),
+                                windows=[int(w) for w in args.koala_windows.split(",") if w])
     out.mkdir(exist_ok=True)
     (out / "convergence.json").write_text(json.dumps(result, indent=1))
     write_outputs(result, out, args.markdown)
@@ -330,6 +404,9 @@ def write_outputs(result, out, markdown_path):
         img = ROOT / "docs" / "img" / "convergence.png"
         img.write_bytes((out / "convergence.png").read_bytes())
         replace_section(markdown_path, "convergence", markdown(result, "img/convergence.png"))
+        if result.get("koala"):
+            replace_section(markdown_path, "convergence-koala",
+                            koala_markdown(result["koala"], result["machine"]))
 
 
 if __name__ == "__main__":
