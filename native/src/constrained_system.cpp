@@ -1,5 +1,7 @@
 #include "edgedeform/constrained_system.h"
 
+#include "edgedeform/stiffness.h"
+
 #include <algorithm>
 #include <deque>
 #include <stdexcept>
@@ -254,28 +256,32 @@ RotationOperator rotation_operator(const ConstrainedSystem& sys) {
   return RotationOperator(std::move(row_count), std::move(term), std::move(coef), T);
 }
 
-AssembledSystem assemble_system(const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
+AssembledSystem assemble_system(const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda,
+                                double similarity_floor) {
   AssembledSystem out;
   const NodeStencil& st = sys.stencil;
   const int T = st.n_terms, nf = sys.n_free();
   out.H = rotation_operator(sys);
-  update_stiffness(out, sys, node_lambda);
+  update_stiffness(out, sys, node_lambda, similarity_floor);
   return out;
 }
 
-void update_stiffness(AssembledSystem& out, const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
+void update_stiffness(AssembledSystem& out, const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda,
+                      double similarity_floor) {
   const NodeStencil& st = sys.stencil;
   const int T = st.n_terms;
   out.term_lambda.resize(T);
   for (int t = 0; t < T; ++t) out.term_lambda(t) = node_lambda(sys.term_nodes[static_cast<size_t>(t)]);
+  out.term_similar = similarity_share(out.term_lambda, similarity_floor);
   out.laplacian_term = (out.term_lambda.array() < 1.0).any();
-  out.H.set_term_lambda(out.term_lambda);
+  out.H.set_term_lambda(out.term_lambda, out.term_similar);
 
+  // 1-form arcs weigh lambda_t + phi_t (rigid and similarity shares), the Laplacian 1 - both.
   Eigen::VectorXd w1(st.n_arcs());
   for (int t = 0; t < T; ++t)
     for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a)
-      w1(a) = out.term_lambda(t) * st.weight[static_cast<size_t>(a)];
-  const Eigen::VectorXd w2 = (1.0 - out.term_lambda.array()).matrix();
+      w1(a) = (out.term_lambda(t) + out.term_similar(t)) * st.weight[static_cast<size_t>(a)];
+  const Eigen::VectorXd w2 = (1.0 - out.term_lambda.array() - out.term_similar.array()).matrix();
 
   // The J1 term is kept even when every W1 is 0: its pattern lies inside the J2 term's, so
   // the symbolic analysis survives any change of lambda below 1.

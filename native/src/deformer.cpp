@@ -162,9 +162,9 @@ void Deformer::ensure_factored(SolveResult& result) {
   // Kept only once factored: after a failure the next call assembles anew.
   std::unique_ptr<AssembledSystem> assembled = std::move(assembled_);
   if (assembled)  // only lambda changed: new values in the same operators and pattern
-    update_stiffness(*assembled, *system_, node_lambda_);
+    update_stiffness(*assembled, *system_, node_lambda_, similarity_floor());
   else
-    assembled = std::make_unique<AssembledSystem>(assemble_system(*system_, node_lambda_));
+    assembled = std::make_unique<AssembledSystem>(assemble_system(*system_, node_lambda_, similarity_floor()));
   if (system_->n_free() > 0) {
     const std::vector<int> order = free_vertex_order(*system_, vertex_rank_);
     cholesky_.factorize(assembled->A, order);  // throws FactorizationError
@@ -264,7 +264,7 @@ void Deformer::local_step(const Eigen::MatrixXd& y, RowMatrixX3d& x_local, Local
   const auto t0 = Clock::now();
   x_local.topRows(y.rows()) = y;
   stencil_node_positions(*system_, x_local, node_positions_);
-  fit_local(system_->stencil, node_positions_, assembled_->term_lambda, fit);
+  fit_local(system_->stencil, node_positions_, assembled_->term_lambda, fit, assembled_->term_similar);
   result.local_ms += ms_since(t0);
 }
 
@@ -391,7 +391,8 @@ double Deformer::energy(const RowMatrixX3d& X) const {
     full_stencil_ = std::make_unique<NodeStencil>(build_stencil(graph_, graph_.node_positions(rest_), all, all));
   }
   LocalFit fit;
-  fit_local(*full_stencil_, graph_.node_positions(X), node_lambda_, fit);
+  fit_local(*full_stencil_, graph_.node_positions(X), node_lambda_, fit,
+            similarity_share(node_lambda_, similarity_floor()));
   return fit.energy;
 }
 

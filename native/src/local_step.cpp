@@ -54,8 +54,8 @@ Eigen::Matrix3d unweighted_covariance(const NodeStencil& st, const RowMatrixX3d&
 }
 
 // One term's fit: R_t, s_t and its energy.
-double fit_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int t, Eigen::Matrix3d& R,
-                Eigen::Matrix3d& V, double& s, bool R_is_previous) {
+double fit_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, double similar, int t,
+                Eigen::Matrix3d& R, Eigen::Matrix3d& V, double& s, bool R_is_previous) {
   const Eigen::Vector3d pi = p.row(st.self[static_cast<size_t>(t)]).transpose();
   Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
   Eigen::Vector3d laplacian = Eigen::Vector3d::Zero();
@@ -79,15 +79,17 @@ double fit_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int
   }
   // The rigid residual in a second pass rather than expanded through S: at a fixed point
   // the expansion would cancel to round-off of the rest scale instead of ~0.
-  double rigid = 0.0;
-  if (lambda > 0.0) {
+  double rigid = 0.0, similarity = 0.0;
+  if (lambda > 0.0 || similar > 0.0) {
     for (int a = begin; a < end; ++a) {
       const Eigen::Vector3d e = pi - p.row(st.neighbour[static_cast<size_t>(a)]).transpose();
-      rigid += st.weight[static_cast<size_t>(a)] * (e - R * st.rest_edge.row(a).transpose()).squaredNorm();
+      const Eigen::Vector3d Re0 = R * st.rest_edge.row(a).transpose();
+      rigid += st.weight[static_cast<size_t>(a)] * (e - Re0).squaredNorm();
+      if (similar > 0.0) similarity += st.weight[static_cast<size_t>(a)] * (e - s * Re0).squaredNorm();
     }
   }
   const double smooth = (laplacian - s * (R * st.rest_laplacian.row(t).transpose())).squaredNorm();
-  return lambda * rigid + (1.0 - lambda) * smooth;
+  return lambda * rigid + similar * similarity + (1.0 - lambda - similar) * smooth;
 }
 
 // Threads only for stencils of at least this many terms. The 1k-vertex edge-domain lift
@@ -99,7 +101,9 @@ constexpr int kTermsPerChunk = 256;
 
 }  // namespace
 
-void fit_local(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::VectorXd& lambda, LocalFit& fit) {
+void fit_local(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::VectorXd& lambda, LocalFit& fit,
+               const Eigen::VectorXd& similar) {
+  const bool has_similar = similar.size() != 0;
   const int T = st.n_terms;
   const bool warm = fit.rotation.size() == static_cast<size_t>(T);  // rotations to start from
   fit.rotation.resize(static_cast<size_t>(T));
@@ -109,7 +113,8 @@ void fit_local(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::Vector
   parallel_for(T, kTermsPerChunk, kMinParallelTerms, [&](int begin, int end) {
     for (int t = begin; t < end; ++t) {
       double s = 1.0;
-      fit.term_energy(t) = fit_term(st, p, lambda(t), t, fit.rotation[static_cast<size_t>(t)],
+      fit.term_energy(t) = fit_term(st, p, lambda(t), has_similar ? similar(t) : 0.0, t,
+                                    fit.rotation[static_cast<size_t>(t)],
                                     fit.right_vectors[static_cast<size_t>(t)], s, warm);
       fit.scale(t) = s;
     }

@@ -65,10 +65,13 @@ struct AssembledSystem {
                                   // coefficients, weighed by term_lambda
   SparseMatrix K_fixed;           // J1f^T W1 J1c + J2f^T W2 J2c: A's coupling to x_c (nf x nc)
   Eigen::VectorXd term_lambda;    // #terms
+  Eigen::VectorXd term_similar;   // #terms: phi_t, the similarity 1-form share (stiffness.h)
   bool laplacian_term = false;    // some term has lambda < 1
 };
 
-AssembledSystem assemble_system(const ConstrainedSystem& system, const Eigen::VectorXd& node_lambda);
+// `similarity_floor`: kPrimalSimilarityFloor in the primal domain, 0 in the edge domain.
+AssembledSystem assemble_system(const ConstrainedSystem& system, const Eigen::VectorXd& node_lambda,
+                                double similarity_floor = 0.0);
 
 // The right-hand-side operator of `system` (lambda-free; every term's lambda is 1).
 RotationOperator rotation_operator(const ConstrainedSystem& system);
@@ -76,7 +79,7 @@ RotationOperator rotation_operator(const ConstrainedSystem& system);
 // The same system at other stiffness: A, K_fixed and the operator's per-term lambda are
 // replaced; H's coefficients and the pattern of A (for lambda < 1 somewhere) stay.
 void update_stiffness(AssembledSystem& assembled, const ConstrainedSystem& system,
-                      const Eigen::VectorXd& node_lambda);
+                      const Eigen::VectorXd& node_lambda, double similarity_floor = 0.0);
 
 
 }  // namespace edgedeform

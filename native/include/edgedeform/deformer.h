@@ -17,6 +17,7 @@
 #include "edgedeform/node_graph.h"
 #include "edgedeform/seams.h"
 #include "edgedeform/sparse_cholesky.h"
+#include "edgedeform/stiffness.h"
 
 namespace edgedeform {
 
@@ -91,6 +92,8 @@ class Deformer {
   double factor_nonzeros() const { return cholesky_.factor_nonzeros(); }
 
  private:
+  // The similarity floor of this domain's terms (stiffness.h): primal only.
+  double similarity_floor() const { return graph_.domain == Domain::Primal ? kPrimalSimilarityFloor : 0.0; }
   void ensure_factored(SolveResult& result);
   // Keeps the elimination order CHOLMOD chose for the current free vertices.
   void remember_order();
