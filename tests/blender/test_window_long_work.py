@@ -1,5 +1,6 @@
 """Real-window test (Xvfb, --enable-event-simulate) of issue 12's long work on a 50k-vertex
 mesh (a generated grid, 224 x 224 vertices):
+  - Esc right after Bind starts cancels it: not bound, nothing recorded;
   - Bind from the UI shows its progress: the fraction rises from 0 to 1 over the stages, and
     the status bar is redrawn with each stage's text ("factoring 150k graph nodes…")
     before that stage runs, so the user sees it while waiting;
@@ -64,6 +65,24 @@ def steps():
     seen = []
     op_common.progress_listeners.append(
         lambda kind, text, fraction: seen.append((kind, text, fraction)))
+
+    # ------------------------------------------------------------ Esc stops a Bind
+    from edge_deform import lifecycle
+    state, rest_matrix = stored_state(ob.data), ob.edge_deform.handles[0].rest_matrix.copy()
+    ctrl.location.y += 0.1   # a Bind would record this as the controller's rest
+    bpy.context.view_layer.update()
+    with Told() as told:
+        with override():
+            assert bpy.ops.edge_deform.bind('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
+        tap('ESC')
+        yield from until(lambda: told.has('WARNING', "cancelled"), 60)
+    assert told.has('WARNING', "Bind of 'big' cancelled"), told.messages
+    assert not lifecycle.is_bound(ob.data) and stored_state(ob.data) == state
+    assert ob.edge_deform.handles[0].rest_matrix == rest_matrix, "the rest is not recorded"
+    ctrl.location.y -= 0.1
+    bpy.context.view_layer.update()
+    seen.clear()
+    print("Esc during Bind: nothing changed: ok")
 
     # ------------------------------------------------------------ Bind shows its stages
     with Told() as told:
