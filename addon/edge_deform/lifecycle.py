@@ -385,8 +385,7 @@ def bind_steps(ob):
     t0 = time.perf_counter()
     binding.sync(native.get(), inputs)
     binding.bind_ms = build_ms + (time.perf_counter() - t0) * 1e3
-    session.drop(mesh.as_pointer())
-    session.put(binding)
+    session.put(binding)   # (replaces the mesh's old binding)
     st = _state(mesh)
     if st.output == 'MESH':   # the base holds the shape the user accepts as the new rest
         mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
