@@ -231,6 +231,8 @@ def deform_steps(ob, chunk_ms=100.0):
     while True:
         yield done / max(1, limit), "Deforming '%s': %d/%d iterations…" % (ob.name, done, limit)
         n = min(budget.iterations(limit), limit - done)
+        if limit - done - n == 1:
+            n += 1   # no one-iteration chunk at the end (it may not see convergence)
         t0 = time.perf_counter()
         r = bound.solve(targets, n, s.tolerance, warm=done > 0)
         budget.record(r, (time.perf_counter() - t0) * 1e3)
