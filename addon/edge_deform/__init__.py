@@ -9,7 +9,12 @@ bl_info = {
     "description": "Deform meshes with handles and painted stiffness "
                    "(Triangular Mesh Deformation via Edge-Based Graph)",
     "category": "Mesh",
+    # Set by register() to a file:// URL of the manual shipped with the add-on
+    # (docs/addon.md): there is no public web page, and bl_info must be a literal here.
+    "doc_url": "",
 }
+
+import pathlib
 
 import bpy
 
@@ -26,7 +31,31 @@ _register, _unregister = bpy.utils.register_classes_factory(
     + ui.CLASSES + menus.CLASSES)
 
 
+def manual_url():
+    """file:// URL of the manual: the copy bundled in an installed add-on
+    (edge_deform/docs/addon.md), else the checkout's docs/addon.md (a development run)."""
+    here = pathlib.Path(__file__).resolve().parent
+    for path in (here / "docs" / "addon.md", here.parent.parent / "docs" / "addon.md"):
+        if path.is_file():
+            return path.as_uri()
+    return ""
+
+
+def _link_manual():
+    """Preferences > Add-ons shows a "Documentation" button for bl_info["doc_url"], read
+    from the copy of bl_info that addon_utils parsed from this file (a literal, which
+    cannot know where the add-on is installed): give both copies the manual's URL."""
+    import addon_utils
+    url = manual_url()
+    bl_info["doc_url"] = url
+    addon_utils.modules(refresh=False)   # (parses bl_info once, as the Preferences do)
+    fake = addon_utils.addons_fake_modules.get(__name__)
+    if fake is not None:
+        addon_utils.module_bl_info(fake)["doc_url"] = url
+
+
 def register():
+    _link_manual()
     _register()
     properties.register_props()
     operators_bake.register_handlers()

@@ -218,6 +218,31 @@ def cached_inputs(ob):
     return engine.with_global_changes(binding.inputs, ob)
 
 
+def deform_steps(ob, chunk_ms=100.0):
+    """Solve from scratch in chunks of iterations, for a Solve that Esc can stop: a
+    generator yielding (fraction, text) between chunks; writes only after the last chunk
+    and returns (Bound, SolveResult of the last chunk, iterations in all). The chunks
+    continue one iteration (warm starts with unchanged targets keep the Anderson history,
+    docs/api.md), so the result is the one-call `deform(ob)`'s."""
+    s = ob.edge_deform
+    bound = prepare(ob)
+    targets, limit, done = bound.targets(), int(s.iterations), 0
+    budget = engine.IterationBudget(chunk_ms)
+    while True:
+        yield done / max(1, limit), "Deforming '%s': %d/%d iterations…" % (ob.name, done, limit)
+        n = min(budget.iterations(limit), limit - done)
+        if limit - done - n == 1:
+            n += 1   # no one-iteration chunk at the end (it may not see convergence)
+        t0 = time.perf_counter()
+        r = bound.solve(targets, n, s.tolerance, warm=done > 0)
+        budget.record(r, (time.perf_counter() - t0) * 1e3)
+        done += r.iterations
+        if r.converged or done >= limit or r.iterations < n:
+            break
+    bound.write(r.positions)
+    return bound, r, done
+
+
 def deform(ob, warm=False, reuse_inputs=False, iterations=None):
     """Bind if needed, solve from the controllers, write: (Bound, SolveResult)."""
     s = ob.edge_deform
@@ -327,13 +352,42 @@ def write_baked(ob, frames, results, step):
 # ------------------------------------------------------------------ bind, apply, unbind
 
 def bind(ob):
-    """The current base mesh and controller transforms become the rest. Nothing is
-    written unless binding succeeds."""
+    """Bind in one go (see bind_steps)."""
+    steps = bind_steps(ob)
+    while True:
+        try:
+            next(steps)
+        except StopIteration as done:
+            return done.value
+
+
+def bind_steps(ob):
+    """The current base mesh and controller transforms become the rest. A generator
+    yielding (fraction, text) before each long stage (reading, building the graph,
+    factoring: progress for the user), returning the Binding. Nothing is written unless
+    every stage succeeds."""
+    yield 0.0, "Binding '%s': reading %d vertices and the groups…" % (
+        ob.name, len(ob.data.vertices))
     inputs = engine.gather_inputs(ob)
     mesh = ob.data
     digest = mesh_arrays.topology_digest(mesh)
-    session.drop(mesh.as_pointer())
-    binding = _binding(mesh, inputs, mesh_arrays.read_positions(mesh), digest)
+    X, F = mesh_arrays.read_positions(mesh), mesh_arrays.read_triangles(mesh)
+    if F.shape[0] == 0:
+        raise Refused("The mesh has no faces")
+    binding = session.Binding(mesh.as_pointer(), mesh_arrays.topology_counts(mesh), digest,
+                              X, F)
+    graph = "edge" if inputs.domain == 'EDGE' else "vertex"
+    yield 0.2, "Binding '%s': building the %s graph of %d triangles…" % (
+        ob.name, graph, len(F))
+    t0 = time.perf_counter()
+    binding.build(native.get(), inputs.domain)
+    build_ms = (time.perf_counter() - t0) * 1e3   # (not the redraws between the stages)
+    yield 0.4, "Binding '%s': factoring %s graph nodes…" % (
+        ob.name, _count(binding.deformer.n_nodes))
+    t0 = time.perf_counter()
+    binding.sync(native.get(), inputs)
+    binding.bind_ms = build_ms + (time.perf_counter() - t0) * 1e3
+    session.put(binding)   # (replaces the mesh's old binding)
     st = _state(mesh)
     if st.output == 'MESH':   # the base holds the shape the user accepts as the new rest
         mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
@@ -341,6 +395,14 @@ def bind(ob):
     st.topology = digest
     engine.record_rest_transforms(ob)
     return binding
+
+
+def _count(n):
+    """150k, 1.2M: a count for a status text."""
+    for size, unit in ((1e6, "M"), (1e3, "k")):
+        if n >= size:
+            return "%.3g%s" % (n / size, unit)
+    return str(n)
 
 
 def apply(ob):

@@ -187,8 +187,32 @@ def test_panel_follows_a_controller_and_swaps_bind():
     assert bpy.context.view_layer.objects.active == ctrl and not ob.select_get()
 
 
+def doc_file(url):
+    """The file a file:// documentation link opens (asserts it is one that exists)."""
+    from urllib.parse import urlparse
+    from urllib.request import url2pathname
+    parts = urlparse(url)
+    assert parts.scheme == "file", url
+    path = url2pathname(parts.path)
+    assert os.path.isfile(path), "the documentation link opens no file: %s" % url
+    return path
+
+
+def test_info_links_the_manual():
+    path = doc_file(edge_deform.bl_info["doc_url"])
+    # The copy installed with the add-on (the 4.2+ suites install the extension), else,
+    # from a checkout, its docs/addon.md.
+    bundled = os.path.join(os.path.dirname(edge_deform.__file__), "docs", "addon.md")
+    checkout = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
+        os.path.abspath(__file__)))), "docs", "addon.md")
+    expected = bundled if os.path.isfile(bundled) else checkout
+    assert os.path.samefile(path, expected), (path, expected)
+    with open(path, encoding="utf-8") as f:
+        assert f.readline().startswith("# Edge Deform"), path
+
+
 if __name__ == "__main__":
-    run([test_menus_hold_the_operators, test_every_operator_and_property_is_described,
+    run([test_info_links_the_manual, test_menus_hold_the_operators, test_every_operator_and_property_is_described,
          test_set_static_takes_vertices_out_of_handles,
          test_stiffness_buttons_follow_weight_paint_masks,
          test_panel_follows_a_controller_and_swaps_bind])
