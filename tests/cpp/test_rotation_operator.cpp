@@ -69,6 +69,44 @@ TEST(RotationOperator, AppliesTheSixColumnLayoutOfH) {
   EXPECT_THROW(op.set_term_lambda(Eigen::VectorXd::Ones(terms + 1)), std::invalid_argument);
 }
 
+TEST(RotationOperator, RestrictedKeepsTheChosenRowsWithTermsRenumbered) {
+  // Rows 6, 1, 4 of a 9 x 5-term H (term 3 dropped; a block of it is only in other rows).
+  std::mt19937 rng(5);
+  const int rows = 9, terms = 5;
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int r = 0; r < rows; ++r)
+    for (int col = 0; col < 6 * terms; ++col)
+      if (col / 6 != 3 || r % 3 == 0) entries.emplace_back(r, col, u(rng));
+  SparseMatrixRowMajor H(rows, 6 * terms);
+  H.setFromTriplets(entries.begin(), entries.end());
+  const RotationOperator op(H);
+  const std::vector<int> kept_rows{7, 1, 4}, term_map{0, 1, 2, -1, 3};
+  RotationOperator part = op.restricted(kept_rows, term_map, 4);
+  EXPECT_EQ(part.rows(), 3);
+  EXPECT_EQ(part.terms(), 4);
+  const auto R = random_rotations(4, rng);
+  const Eigen::VectorXd s = random_vector(4, 0.5, 2.0, rng), lambda = random_vector(4, 0.0, 1.0, rng);
+  part.set_term_lambda(lambda);
+  Eigen::MatrixXd Z = Eigen::MatrixXd::Zero(6 * terms, 3);  // the dropped term's rows stay 0
+  for (int t = 0; t < terms; ++t) {
+    const int k4 = term_map[static_cast<size_t>(t)];
+    if (k4 < 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      Z.row(6 * t + k) = lambda(k4) * R[static_cast<size_t>(k4)].col(k).transpose();
+      Z.row(6 * t + 3 + k) = (1.0 - lambda(k4)) * s(k4) * R[static_cast<size_t>(k4)].col(k).transpose();
+    }
+  }
+  const Eigen::MatrixXd c = Eigen::MatrixXd::Random(3, 3), dense = Eigen::MatrixXd(H) * Z;
+  Eigen::MatrixXd y;
+  part.apply(R, s, c, y);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_LT((y.row(k) - c.row(k) - dense.row(kept_rows[static_cast<size_t>(k)])).cwiseAbs().maxCoeff(), 1e-13) << k;
+  EXPECT_THROW(op.restricted({3}, term_map, 4), std::invalid_argument);  // row 3 uses term 3
+  EXPECT_THROW(op.restricted({9}, term_map, 4), std::out_of_range);
+  EXPECT_THROW(op.restricted({1}, {0, 1, 2}, 3), std::invalid_argument);
+}
+
 TEST(RotationOperator, AssembledOperatorMatchesTheRightSideOfTheEnergy) {
   // rhs = J1f^T W1 [R_t(a) e0_a]_a + J2f^T W2 [s_t R_t delta0_t]_t - K_fixed x_c, the
   // right side of the global step's normal equations, for random rotations, scales and
