@@ -61,12 +61,14 @@ RotationOperator RotationOperator::restricted(const std::vector<int>& rows, cons
   term.reserve(blocks);
   coef.reserve(6 * blocks);
   for (int r : rows) {
-    for (int b = offsets_[static_cast<size_t>(r)]; b < offsets_[static_cast<size_t>(r) + 1]; ++b) {
-      const int t = term_map[static_cast<size_t>(term_[static_cast<size_t>(b)])];
+    const auto begin = static_cast<size_t>(offsets_[static_cast<size_t>(r)]);
+    const auto end = static_cast<size_t>(offsets_[static_cast<size_t>(r) + 1]);
+    for (size_t b = begin; b < end; ++b) {
+      const int t = term_map[static_cast<size_t>(term_[b])];
       if (t < 0) throw std::invalid_argument("RotationOperator: row " + std::to_string(r) + " uses a dropped term");
       term.push_back(t);
-      coef.insert(coef.end(), &coef_[6 * static_cast<size_t>(b)], &coef_[6 * static_cast<size_t>(b) + 6]);
     }
+    coef.insert(coef.end(), coef_.begin() + static_cast<long>(6 * begin), coef_.begin() + static_cast<long>(6 * end));
     offsets.push_back(static_cast<int>(term.size()));
   }
   return RotationOperator(std::move(offsets), std::move(term), std::move(coef), terms);
