@@ -15,7 +15,10 @@ The cost of a change is the difference of two runs (add - fresh, remove - add); 
 reported against the fresh cost of the set it starts from and of the set it ends in.
 
     OMP_NUM_THREADS=1 PYTHONPATH=build/python /usr/bin/python3 bench/callgrind_handle_change.py \\
-        [--meshes koala.obj,nefertiti_loop1.ply] [--json out.json]
+        [--meshes koala.obj,nefertiti_loop1.ply] [--json bench/results/callgrind_handle_change.json]
+
+Instruction counts do not depend on the machine's load; the lead's wall-clock numbers come
+from bench_core.py (its "handle add / remove" column).
 """
 
 import argparse
@@ -31,6 +34,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 from edits import SHARED_MESHES, lift_edit  # noqa: E402
+from machine import machine_info  # noqa: E402
 
 MODES = ("fresh", "add", "remove", "final")
 FUNCTIONS = {"set_constraints": "edgedeform::Deformer::set_constraints(",
@@ -125,7 +129,8 @@ def main():
                   f"{100 * row['add_vs_fresh']:.0f} %{final}; removed {row['remove_M']:,.0f} M = "
                   f"{100 * row['remove_vs_fresh']:.0f} %", flush=True)
     if args.json:
-        args.json.write_text(json.dumps(rows, indent=2) + "\n")
+        args.json.write_text(json.dumps({"machine": machine_info(), "unit": "millions of instructions (callgrind)",
+                                         "rows": rows}, indent=2) + "\n")
 
 
 if __name__ == "__main__":
