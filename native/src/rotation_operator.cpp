@@ -47,6 +47,35 @@ RotationOperator::RotationOperator(std::vector<int> offsets, std::vector<int> te
     if (t < 0 || t >= terms) throw std::out_of_range("RotationOperator: term " + std::to_string(t) + " out of range");
 }
 
+RotationOperator RotationOperator::restricted(const std::vector<int>& rows, const std::vector<int>& term_map,
+                                              int terms) const {
+  if (term_map.size() != lambda_.size())
+    throw std::invalid_argument("term_map has " + std::to_string(term_map.size()) + " entries, expected " +
+                                std::to_string(lambda_.size()) + " (one per term)");
+  std::vector<int> offsets(1, 0), term;
+  std::vector<double> coef;
+  size_t blocks = 0;
+  for (int r : rows) {
+    if (r < 0 || r >= this->rows()) throw std::out_of_range("RotationOperator: row " + std::to_string(r) + " out of range");
+    blocks += static_cast<size_t>(offsets_[static_cast<size_t>(r) + 1] - offsets_[static_cast<size_t>(r)]);
+  }
+  offsets.reserve(rows.size() + 1);
+  term.reserve(blocks);
+  coef.reserve(6 * blocks);
+  for (int r : rows) {
+    const auto begin = static_cast<size_t>(offsets_[static_cast<size_t>(r)]);
+    const auto end = static_cast<size_t>(offsets_[static_cast<size_t>(r) + 1]);
+    for (size_t b = begin; b < end; ++b) {
+      const int t = term_map[static_cast<size_t>(term_[b])];
+      if (t < 0) throw std::invalid_argument("RotationOperator: row " + std::to_string(r) + " uses a dropped term");
+      term.push_back(t);
+    }
+    coef.insert(coef.end(), coef_.begin() + static_cast<long>(6 * begin), coef_.begin() + static_cast<long>(6 * end));
+    offsets.push_back(static_cast<int>(term.size()));
+  }
+  return RotationOperator(std::move(offsets), std::move(term), std::move(coef), terms);
+}
+
 void RotationOperator::set_term_lambda(const Eigen::VectorXd& term_lambda, const Eigen::VectorXd& term_similar) {
   const auto expected = static_cast<Eigen::Index>(lambda_.size());
   if (term_lambda.size() != expected || (term_similar.size() != 0 && term_similar.size() != expected))

@@ -26,6 +26,12 @@ class RotationOperator {
   // term and six coefficients (h_R, h_T); `terms` = #terms.
   RotationOperator(std::vector<int> offsets, std::vector<int> term, std::vector<double> coef, int terms);
 
+  // The operator of a subset of the rows (rows[k] becomes row k) with terms renumbered:
+  // term t becomes term_map[t] (#terms entries; -1 for a term the subset drops, which none
+  // of the kept rows may use: std::invalid_argument), of `terms` in all. term_map must keep
+  // the terms' order, so that each row's blocks still ascend. Every lambda_t starts at 1.
+  RotationOperator restricted(const std::vector<int>& rows, const std::vector<int>& term_map, int terms) const;
+
   // lambda_t of every term (#terms), and phi_t (#terms, or empty for none); throws
   // std::invalid_argument on a size mismatch.
   void set_term_lambda(const Eigen::VectorXd& term_lambda, const Eigen::VectorXd& term_similar = {});

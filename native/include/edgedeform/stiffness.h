@@ -23,6 +23,10 @@ Eigen::VectorXd node_stiffness(const NodeGraph& graph, const Eigen::VectorXd& ve
 // converges without it.
 constexpr double kPrimalSimilarityFloor = 0.01;
 
+// The similarity floor of a domain's terms: kPrimalSimilarityFloor in the primal domain, 0
+// in the edge domain.
+inline double similarity_floor(Domain domain) { return domain == Domain::Primal ? kPrimalSimilarityFloor : 0.0; }
+
 // Per term: the share of the similarity 1-form term, max(floor - lambda, 0).
 Eigen::VectorXd similarity_share(const Eigen::VectorXd& term_lambda, double floor);
 
