@@ -53,26 +53,40 @@ Eigen::Matrix3d unweighted_covariance(const NodeStencil& st, const RowMatrixX3d&
   return S2;
 }
 
-// One term's fit: R_t, s_t and its energy.
-double fit_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int t, Eigen::Matrix3d& R,
-                Eigen::Matrix3d& V, double& s, bool R_is_previous) {
-  const Eigen::Vector3d pi = p.row(st.self[static_cast<size_t>(t)]).transpose();
+// A term's covariance S = sum_j w e0_j e_j^T and its weighted Laplacian sum_j w e_j.
+struct TermCovariance {
   Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
   Eigen::Vector3d laplacian = Eigen::Vector3d::Zero();
-  const int begin = st.offsets[static_cast<size_t>(t)], end = st.offsets[static_cast<size_t>(t) + 1];
-  for (int a = begin; a < end; ++a) {
+  Eigen::Vector3d self;
+  int begin = 0, end = 0;
+};
+
+TermCovariance covariance(const NodeStencil& st, const RowMatrixX3d& p, int t) {
+  TermCovariance c;
+  c.self = p.row(st.self[static_cast<size_t>(t)]).transpose();
+  c.begin = st.offsets[static_cast<size_t>(t)];
+  c.end = st.offsets[static_cast<size_t>(t) + 1];
+  for (int a = c.begin; a < c.end; ++a) {
     const Eigen::Vector3d we =
-        st.weight[static_cast<size_t>(a)] * (pi - p.row(st.neighbour[static_cast<size_t>(a)]).transpose());
-    S.noalias() += st.rest_edge.row(a).transpose() * we.transpose();
-    laplacian += we;
+        st.weight[static_cast<size_t>(a)] * (c.self - p.row(st.neighbour[static_cast<size_t>(a)]).transpose());
+    c.S.noalias() += st.rest_edge.row(a).transpose() * we.transpose();
+    c.laplacian += we;
   }
+  return c;
+}
+
+// The rest of term t's fit: R_t (unless Newton already refined it from the last iteration's
+// rotation), s_t, and the term's energy.
+double finish_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int t, const TermCovariance& c,
+                   bool refined, Eigen::Matrix3d& R, Eigen::Matrix3d& V, double& s) {
   const double rest_norm = st.rest_norm(t);
   if (rest_norm > 0.0) {
-    const Eigen::Matrix3d previous = R;  // the last iteration's rotation of this term
-    const RotationFit rf = fit_rotation(S, V, R_is_previous ? &previous : nullptr);
-    R = rf.R;
-    if (rf.degenerate) R = rotation_about_axis(rf.u1, rf.v1, unweighted_covariance(st, p, pi, begin, end));
-    s = std::clamp((R * S).trace() / rest_norm, kMinScale, kMaxScale);
+    if (!refined) {  // no previous rotation, or Newton declined it: the SVD
+      const RotationFit rf = fit_rotation(c.S, V);
+      R = rf.R;
+      if (rf.degenerate) R = rotation_about_axis(rf.u1, rf.v1, unweighted_covariance(st, p, c.self, c.begin, c.end));
+    }
+    s = std::clamp((R * c.S).trace() / rest_norm, kMinScale, kMaxScale);
   } else {
     R.setIdentity();
     s = 1.0;
@@ -81,12 +95,12 @@ double fit_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int
   // the expansion would cancel to round-off of the rest scale instead of ~0.
   double rigid = 0.0;
   if (lambda > 0.0) {
-    for (int a = begin; a < end; ++a) {
-      const Eigen::Vector3d e = pi - p.row(st.neighbour[static_cast<size_t>(a)]).transpose();
+    for (int a = c.begin; a < c.end; ++a) {
+      const Eigen::Vector3d e = c.self - p.row(st.neighbour[static_cast<size_t>(a)]).transpose();
       rigid += st.weight[static_cast<size_t>(a)] * (e - R * st.rest_edge.row(a).transpose()).squaredNorm();
     }
   }
-  const double smooth = (laplacian - s * (R * st.rest_laplacian.row(t).transpose())).squaredNorm();
+  const double smooth = (c.laplacian - s * (R * st.rest_laplacian.row(t).transpose())).squaredNorm();
   return lambda * rigid + (1.0 - lambda) * smooth;
 }
 
@@ -107,11 +121,32 @@ void fit_local(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::Vector
   fit.term_energy.resize(T);
   if (fit.right_vectors.size() != static_cast<size_t>(T)) fit.right_vectors.assign(static_cast<size_t>(T), Eigen::Matrix3d::Identity());
   parallel_for(T, kTermsPerChunk, kMinParallelTerms, [&](int begin, int end) {
-    for (int t = begin; t < end; ++t) {
-      double s = 1.0;
-      fit.term_energy(t) = fit_term(st, p, lambda(t), t, fit.rotation[static_cast<size_t>(t)],
-                                    fit.right_vectors[static_cast<size_t>(t)], s, warm);
-      fit.scale(t) = s;
+    // Two terms at a time, so that their Newton refinements share SIMD instructions.
+    for (int t = begin; t < end; t += 2) {
+      const int count = std::min(2, end - t);
+      TermCovariance c[2];
+      bool refine[2] = {false, false}, refined[2] = {false, false};
+      for (int k = 0; k < count; ++k) {
+        c[k] = covariance(st, p, t + k);
+        refine[k] = warm && st.rest_norm(t + k) > 0.0;
+      }
+      Eigen::Matrix3d* const R[2] = {&fit.rotation[static_cast<size_t>(t)],
+                                     &fit.rotation[static_cast<size_t>(t + count - 1)]};
+      if (count == 2 && refine[0] && refine[1]) {
+        const Eigen::Matrix3d* const S[2] = {&c[0].S, &c[1].S};
+        const int mask = refine_rotation_pair(S, R);
+        refined[0] = mask & 1;
+        refined[1] = mask & 2;
+      } else {
+        for (int k = 0; k < count; ++k)
+          if (refine[k]) refined[k] = refine_rotation(c[k].S, *R[k]);
+      }
+      for (int k = 0; k < count; ++k) {
+        double s = 1.0;
+        fit.term_energy(t + k) = finish_term(st, p, lambda(t + k), t + k, c[k], refined[k], *R[k],
+                                             fit.right_vectors[static_cast<size_t>(t + k)], s);
+        fit.scale(t + k) = s;
+      }
     }
   });
   fit.energy = fit.term_energy.sum();  // a fixed order: the same energy on every run
