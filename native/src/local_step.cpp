@@ -4,6 +4,7 @@
 #include <cmath>
 
 
+#include "edgedeform/lanes.h"
 #include "edgedeform/node_graph.h"
 #include "edgedeform/parallel.h"
 
@@ -75,6 +76,40 @@ TermCovariance covariance(const NodeStencil& st, const RowMatrixX3d& p, int t) {
   return c;
 }
 
+// covariance() of terms t and t + 1, which have the same number of arcs, side by side in
+// SIMD lanes: the same operations per lane in the same order, so the same results.
+void covariance_pair(const NodeStencil& st, const RowMatrixX3d& p, int t, TermCovariance c[2]) {
+  const double* rest = st.rest_edge.data();
+  Lanes self[3], S[9], laplacian[3] = {};
+  for (int k = 0; k < 2; ++k) {
+    c[k].self = p.row(st.self[static_cast<size_t>(t + k)]).transpose();
+    c[k].begin = st.offsets[static_cast<size_t>(t + k)];
+    c[k].end = st.offsets[static_cast<size_t>(t + k) + 1];
+  }
+  for (int i = 0; i < 3; ++i) self[i] = Lanes{c[0].self(i), c[1].self(i)};
+  for (auto& entry : S) entry = Lanes{0.0, 0.0};
+  for (int m = 0; m < c[0].end - c[0].begin; ++m) {
+    const int a0 = c[0].begin + m, a1 = c[1].begin + m;
+    const double* p0 = p.data() + 3 * static_cast<ptrdiff_t>(st.neighbour[static_cast<size_t>(a0)]);
+    const double* p1 = p.data() + 3 * static_cast<ptrdiff_t>(st.neighbour[static_cast<size_t>(a1)]);
+    const Lanes w{st.weight[static_cast<size_t>(a0)], st.weight[static_cast<size_t>(a1)]};
+    Lanes we[3], e0[3];
+    for (int i = 0; i < 3; ++i) {
+      we[i] = w * (self[i] - Lanes{p0[i], p1[i]});
+      e0[i] = Lanes{rest[3 * static_cast<ptrdiff_t>(a0) + i], rest[3 * static_cast<ptrdiff_t>(a1) + i]};
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) S[3 * i + j] += e0[i] * we[j];
+    for (int i = 0; i < 3; ++i) laplacian[i] += we[i];
+  }
+  for (int k = 0; k < 2; ++k) {
+    for (int i = 0; i < 3; ++i) {
+      c[k].laplacian(i) = laplacian[i][k];
+      for (int j = 0; j < 3; ++j) c[k].S(i, j) = S[3 * i + j][k];
+    }
+  }
+}
+
 // The rest of term t's fit: R_t (unless Newton already refined it from the last iteration's
 // rotation), s_t, and the term's energy.
 double finish_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, int t, const TermCovariance& c,
@@ -126,10 +161,12 @@ void fit_local(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::Vector
       const int count = std::min(2, end - t);
       TermCovariance c[2];
       bool refine[2] = {false, false}, refined[2] = {false, false};
-      for (int k = 0; k < count; ++k) {
-        c[k] = covariance(st, p, t + k);
-        refine[k] = warm && st.rest_norm(t + k) > 0.0;
-      }
+      if (count == 2 && st.offsets[static_cast<size_t>(t) + 1] - st.offsets[static_cast<size_t>(t)] ==
+                            st.offsets[static_cast<size_t>(t) + 2] - st.offsets[static_cast<size_t>(t) + 1])
+        covariance_pair(st, p, t, c);
+      else
+        for (int k = 0; k < count; ++k) c[k] = covariance(st, p, t + k);
+      for (int k = 0; k < count; ++k) refine[k] = warm && st.rest_norm(t + k) > 0.0;
       Eigen::Matrix3d* const R[2] = {&fit.rotation[static_cast<size_t>(t)],
                                      &fit.rotation[static_cast<size_t>(t + count - 1)]};
       if (count == 2 && refine[0] && refine[1]) {

@@ -5,6 +5,8 @@
 
 #include <Eigen/Geometry>
 
+#include "edgedeform/lanes.h"
+
 namespace edgedeform {
 
 namespace {
@@ -30,18 +32,6 @@ Eigen::Matrix3d minimal_rotation(const Eigen::Vector3d& u, const Eigen::Vector3d
   const Eigen::Matrix3d K = cross_matrix(u.cross(v));
   return Eigen::Matrix3d::Identity() + K + K * K / (1.0 + c);
 }
-
-}  // namespace
-
-namespace {
-
-// Two doubles in one SSE2 register (GCC/Clang vector extension; plain scalar code where the
-// target has no such register): refine_rotation_pair runs two terms' Newton iterations in
-// the two lanes, each lane with exactly the arithmetic of a scalar run.
-typedef double Lanes __attribute__((vector_size(16)));
-typedef long long LaneMask __attribute__((vector_size(16)));
-
-bool any(LaneMask m) { return (m[0] | m[1]) != 0; }
 
 }  // namespace
 
