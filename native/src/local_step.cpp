@@ -62,33 +62,38 @@ struct TermCovariance {
   int begin = 0, end = 0;
 };
 
-TermCovariance covariance(const NodeStencil& st, const RowMatrixX3d& p, int t) {
+TermCovariance start_covariance(const NodeStencil& st, const RowMatrixX3d& p, int t) {
   TermCovariance c;
   c.self = p.row(st.self[static_cast<size_t>(t)]).transpose();
   c.begin = st.offsets[static_cast<size_t>(t)];
   c.end = st.offsets[static_cast<size_t>(t) + 1];
-  for (int a = c.begin; a < c.end; ++a) {
+  return c;
+}
+
+// Adds arcs [from, c.end) of the term to its covariance, in order.
+void add_arcs(const NodeStencil& st, const RowMatrixX3d& p, int from, TermCovariance& c) {
+  for (int a = from; a < c.end; ++a) {
     const Eigen::Vector3d we =
         st.weight[static_cast<size_t>(a)] * (c.self - p.row(st.neighbour[static_cast<size_t>(a)]).transpose());
     c.S.noalias() += st.rest_edge.row(a).transpose() * we.transpose();
     c.laplacian += we;
   }
-  return c;
 }
 
-// covariance() of terms t and t + 1, which have the same number of arcs, side by side in
-// SIMD lanes: the same operations per lane in the same order, so the same results.
+// The covariances of terms t and t + 1: their first arcs (as many as the shorter term has)
+// side by side in SIMD lanes, then the longer term's remaining arcs alone. Each lane does
+// add_arcs' operations in add_arcs' order, so the results are the same, bit for bit.
 void covariance_pair(const NodeStencil& st, const RowMatrixX3d& p, int t, TermCovariance c[2]) {
   const double* rest = st.rest_edge.data();
-  Lanes self[3], S[9], laplacian[3] = {};
-  for (int k = 0; k < 2; ++k) {
-    c[k].self = p.row(st.self[static_cast<size_t>(t + k)]).transpose();
-    c[k].begin = st.offsets[static_cast<size_t>(t + k)];
-    c[k].end = st.offsets[static_cast<size_t>(t + k) + 1];
+  for (int k = 0; k < 2; ++k) c[k] = start_covariance(st, p, t + k);
+  const int shared = std::min(c[0].end - c[0].begin, c[1].end - c[1].begin);
+  Lanes self[3], S[9], laplacian[3];
+  for (int i = 0; i < 3; ++i) {
+    self[i] = Lanes{c[0].self(i), c[1].self(i)};
+    laplacian[i] = Lanes{0.0, 0.0};
   }
-  for (int i = 0; i < 3; ++i) self[i] = Lanes{c[0].self(i), c[1].self(i)};
   for (auto& entry : S) entry = Lanes{0.0, 0.0};
-  for (int m = 0; m < c[0].end - c[0].begin; ++m) {
+  for (int m = 0; m < shared; ++m) {
     const int a0 = c[0].begin + m, a1 = c[1].begin + m;
     const double* p0 = p.data() + 3 * static_cast<ptrdiff_t>(st.neighbour[static_cast<size_t>(a0)]);
     const double* p1 = p.data() + 3 * static_cast<ptrdiff_t>(st.neighbour[static_cast<size_t>(a1)]);
@@ -107,6 +112,7 @@ void covariance_pair(const NodeStencil& st, const RowMatrixX3d& p, int t, TermCo
       c[k].laplacian(i) = laplacian[i][k];
       for (int j = 0; j < 3; ++j) c[k].S(i, j) = S[3 * i + j][k];
     }
+    add_arcs(st, p, c[k].begin + shared, c[k]);
   }
 }
 
@@ -161,11 +167,12 @@ void fit_local(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::Vector
       const int count = std::min(2, end - t);
       TermCovariance c[2];
       bool refine[2] = {false, false}, refined[2] = {false, false};
-      if (count == 2 && st.offsets[static_cast<size_t>(t) + 1] - st.offsets[static_cast<size_t>(t)] ==
-                            st.offsets[static_cast<size_t>(t) + 2] - st.offsets[static_cast<size_t>(t) + 1])
+      if (count == 2) {
         covariance_pair(st, p, t, c);
-      else
-        for (int k = 0; k < count; ++k) c[k] = covariance(st, p, t + k);
+      } else {
+        c[0] = start_covariance(st, p, t);
+        add_arcs(st, p, c[0].begin, c[0]);
+      }
       for (int k = 0; k < count; ++k) refine[k] = warm && st.rest_norm(t + k) > 0.0;
       Eigen::Matrix3d* const R[2] = {&fit.rotation[static_cast<size_t>(t)],
                                      &fit.rotation[static_cast<size_t>(t + count - 1)]};
