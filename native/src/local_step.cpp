@@ -162,7 +162,7 @@ void fit_local(const NodeStencil& st, const RowMatrixX3d& p, const Eigen::Vector
   fit.term_energy.resize(T);
   if (fit.right_vectors.size() != static_cast<size_t>(T)) fit.right_vectors.assign(static_cast<size_t>(T), Eigen::Matrix3d::Identity());
   parallel_for(T, kTermsPerChunk, kMinParallelTerms, [&](int begin, int end) {
-    // Two terms at a time, so that their Newton refinements share SIMD instructions.
+    // Two terms at a time: their covariances and Newton refinements share SIMD instructions.
     for (int t = begin; t < end; t += 2) {
       const int count = std::min(2, end - t);
       TermCovariance c[2];
