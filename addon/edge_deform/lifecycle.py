@@ -121,21 +121,48 @@ def _rest(mesh):
 
 # ------------------------------------------------------------------ the solver cache
 
-def _binding(mesh, inputs, X, digest):
-    """The cached Binding of `mesh` for this rest shape, rebuilt when stale."""
+def _to_end(steps):
+    """Run a generator of stages in one go; its result."""
+    while True:
+        try:
+            next(steps)
+        except StopIteration as done:
+            return done.value
+
+
+def _graph_steps(binding, inputs, what, fractions=(0.0, 0.5)):
+    """Build `binding`'s graph for inputs.domain and factor it: yields (fraction, text)
+    before each of these two long stages (the status text names the work)."""
+    graph = "edge" if inputs.domain == 'EDGE' else "vertex"
+    yield fractions[0], "%s: building the %s graph of %d triangles…" % (
+        what, graph, len(binding.F))
+    t0 = time.perf_counter()
+    binding.build(native.get(), inputs.domain)
+    build_ms = (time.perf_counter() - t0) * 1e3   # (not the redraws between the stages)
+    yield fractions[1], "%s: factoring %s graph nodes…" % (
+        what, _count(binding.deformer.n_nodes))
+    t0 = time.perf_counter()
+    binding.sync(native.get(), inputs)
+    binding.bind_ms = build_ms + (time.perf_counter() - t0) * 1e3
+
+
+def _binding_steps(mesh, inputs, X, digest, what, fractions):
+    """The cached Binding of `mesh` for this rest shape and domain; a stale one (or one of
+    the other domain) is replaced by a new Binding built in stages (_graph_steps). The
+    cache keeps the old one until the new one is complete, so closing the generator
+    early leaves everything as it was."""
     pointer = mesh.as_pointer()
     binding = session.get(pointer)
-    if binding is None or binding.digest != digest or binding.rest_key != session.rest_key(X):
-        t0 = time.perf_counter()
-        F = mesh_arrays.read_triangles(mesh)
-        if F.shape[0] == 0:
-            raise Refused("The mesh has no faces")
-        binding = session.Binding(pointer, mesh_arrays.topology_counts(mesh), digest, X, F)
+    if (binding is not None and binding.digest == digest
+            and binding.rest_key == session.rest_key(X) and binding.domain == inputs.domain):
         binding.sync(native.get(), inputs)
-        binding.bind_ms = (time.perf_counter() - t0) * 1e3
-        session.put(binding)
-    else:
-        binding.sync(native.get(), inputs)
+        return binding
+    F = mesh_arrays.read_triangles(mesh)
+    if F.shape[0] == 0:
+        raise Refused("The mesh has no faces")
+    binding = session.Binding(pointer, mesh_arrays.topology_counts(mesh), digest, X, F)
+    yield from _graph_steps(binding, inputs, what, fractions)
+    session.put(binding)
     return binding
 
 
@@ -196,16 +223,26 @@ def output_settings(ob):
     return ob.edge_deform.output, ob.edge_deform.shape_key_name
 
 
-def prepare(ob, inputs=None, require_handles=True):
-    """Check the object and its mesh and bind: a Bound ready to solve, or Refused."""
+def prepare_steps(ob, inputs=None, require_handles=True, what=None,
+                  fractions=(0.0, 0.5)):
+    """Check the object and its mesh and bind: a generator that yields (fraction, text)
+    before building and factoring a graph when the cached one cannot be used (a new
+    domain, rest or topology), and returns a Bound ready to solve, or raises Refused
+    before anything changes. `what` starts the status texts."""
     if inputs is None:
         inputs = engine.gather_inputs(ob, require_handles=require_handles)
     mesh = ob.data
     digest = mesh_arrays.topology_digest(mesh)
     _check_output(ob, digest)
-    binding = _binding(mesh, inputs, _rest(mesh), digest)
+    binding = yield from _binding_steps(mesh, inputs, _rest(mesh), digest,
+                                        what or "'%s'" % ob.name, fractions)
     binding.inputs_owner = ob.name_full   # a linked duplicate has settings of its own
     return Bound(ob, inputs, binding, _hash(mesh_arrays.read_positions32(mesh)))
+
+
+def prepare(ob, inputs=None, require_handles=True):
+    """prepare_steps in one go."""
+    return _to_end(prepare_steps(ob, inputs, require_handles))
 
 
 def cached_inputs(ob):
@@ -225,7 +262,10 @@ def deform_steps(ob, chunk_ms=100.0):
     continue one iteration (warm starts with unchanged targets keep the Anderson history,
     docs/api.md), so the result is the one-call `deform(ob)`'s."""
     s = ob.edge_deform
-    bound = prepare(ob)
+    # A graph to build first (the domain changed since the last solve) is named in the
+    # status; the progress then follows the iterations.
+    bound = yield from prepare_steps(ob, what="Deforming '%s'" % ob.name,
+                                     fractions=(0.0, 0.0))
     targets, limit, done = bound.targets(), int(s.iterations), 0
     budget = engine.IterationBudget(chunk_ms)
     while True:
@@ -353,12 +393,7 @@ def write_baked(ob, frames, results, step):
 
 def bind(ob):
     """Bind in one go (see bind_steps)."""
-    steps = bind_steps(ob)
-    while True:
-        try:
-            next(steps)
-        except StopIteration as done:
-            return done.value
+    return _to_end(bind_steps(ob))
 
 
 def bind_steps(ob):
@@ -376,17 +411,7 @@ def bind_steps(ob):
         raise Refused("The mesh has no faces")
     binding = session.Binding(mesh.as_pointer(), mesh_arrays.topology_counts(mesh), digest,
                               X, F)
-    graph = "edge" if inputs.domain == 'EDGE' else "vertex"
-    yield 0.2, "Binding '%s': building the %s graph of %d triangles…" % (
-        ob.name, graph, len(F))
-    t0 = time.perf_counter()
-    binding.build(native.get(), inputs.domain)
-    build_ms = (time.perf_counter() - t0) * 1e3   # (not the redraws between the stages)
-    yield 0.4, "Binding '%s': factoring %s graph nodes…" % (
-        ob.name, _count(binding.deformer.n_nodes))
-    t0 = time.perf_counter()
-    binding.sync(native.get(), inputs)
-    binding.bind_ms = build_ms + (time.perf_counter() - t0) * 1e3
+    yield from _graph_steps(binding, inputs, "Binding '%s'" % ob.name, (0.2, 0.4))
     session.put(binding)   # (replaces the mesh's old binding)
     st = _state(mesh)
     if st.output == 'MESH':   # the base holds the shape the user accepts as the new rest

@@ -118,16 +118,49 @@ def busy(context, text):
         _progress('end', text, 1.0)
 
 
+class Stages:
+    """Long work written as a generator of (fraction, text) before each stage, run one
+    stage per advance() call, with busy()'s progress, wait cursor and status text from
+    the first call until the work ends. Between calls Blender redraws, so the user sees
+    what the next stage does before it runs. stop() (idempotent) closes the generator
+    early: work written that way touches no bpy data before its last stage."""
+
+    def __init__(self, context, text, steps):
+        self.steps, self.stage = steps, text
+        self.busy = busy(context, text)
+        self.update = self.busy.__enter__()
+
+    def advance(self):
+        """Run the next stage: (True, the work's result) when it ended (then stopped),
+        else (False, None) with the next stage's text shown. An exception stops it."""
+        try:
+            fraction, self.stage = next(self.steps)
+        except StopIteration as done:
+            self.stop()
+            return True, done.value
+        except BaseException:
+            self.stop()
+            raise
+        self.update(fraction, self.stage)
+        return False, None
+
+    def run_to_end(self):
+        while True:
+            done, result = self.advance()
+            if done:
+                return result
+
+    def stop(self):
+        steps, self.steps = self.steps, None
+        if steps is not None:
+            steps.close()
+            self.busy.__exit__(None, None, None)
+
+
 def run_steps(context, text, steps):
     """Run long work written as a generator of (fraction, what it does next) in one go
     (scripts, EXEC_DEFAULT), with the progress shown; returns the generator's result."""
-    with busy(context, text) as update:
-        while True:
-            try:
-                fraction, stage = next(steps)
-            except StopIteration as done:
-                return done.value
-            update(fraction, stage)
+    return Stages(context, text, steps).run_to_end()
 
 
 class StepsJob:
@@ -139,9 +172,7 @@ class StepsJob:
     job_cancelled(context)."""
 
     def start_job(self, context, text, steps):
-        self.job_steps = steps
-        self.job_busy = busy(context, text)
-        self.job_update = self.job_busy.__enter__()
+        self.job = Stages(context, text, steps)
         self.job_area = context.area
         wm = context.window_manager
         self.job_timer = wm.event_timer_add(0.01, window=context.window)
@@ -156,16 +187,15 @@ class StepsJob:
         if event.type != 'TIMER':
             return {'RUNNING_MODAL'}   # the rest of the UI waits for the work
         try:
-            fraction, stage = next(self.job_steps)
-        except StopIteration as done:
-            self.stop_job(context)
-            return _reported(self, lambda: self.job_done(context, done.value))
+            done, result = self.job.advance()
         except Exception as exc:  # noqa: BLE001 - reported; nothing written before the end
             self.stop_job(context)
             tell(self, 'ERROR', error_text(exc))
             return {'CANCELLED'}
-        self.job_update(fraction, stage)
-        self._job_header("%s  (Esc: cancel)" % stage)
+        if done:
+            self.stop_job(context)
+            return _reported(self, lambda: self.job_done(context, result))
+        self._job_header("%s  (Esc: cancel)" % self.job.stage)
         return {'RUNNING_MODAL'}
 
     def _job_header(self, text):
@@ -178,8 +208,7 @@ class StepsJob:
     def stop_job(self, context):
         context.window_manager.event_timer_remove(self.job_timer)
         self._job_header(None)
-        self.job_steps.close()
-        self.job_busy.__exit__(None, None, None)
+        self.job.stop()
 
     def cancel(self, context):   # the window closes or a file loads
         self.stop_job(context)

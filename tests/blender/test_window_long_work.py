@@ -6,6 +6,9 @@ mesh (a generated grid, 224 x 224 vertices):
     before that stage runs, so the user sees it while waiting;
   - a long Solve from the UI runs in chunks: Esc in the middle stops it and the mesh is
     byte-identical to before (vertices, no shape key, the add-on's stored state);
+  - a domain switch during Live: the status bar names the graph building and the
+    factoring before each runs, Live goes on and the mesh follows; Esc between the
+    stages keeps the previous graph with the mesh unchanged;
   - an uncancelled chunked Solve (on the small plane) writes exactly what the one-call
     Solve of a script writes."""
 
@@ -53,6 +56,116 @@ def stored_state(mesh):
     st = mesh.edge_deform_state
     return {name: getattr(st, name) for name in
             ("output", "output_key", "topology", "written", "base", "baked_keys")}
+
+
+def marked_graph_work(seen):
+    """Record in `seen` when the graph work really runs: ('ran', 'build' or 'factor',
+    domain) at the start of Binding.build and Binding.sync (which factors). Returns the
+    function that puts the originals back."""
+    from edge_deform import session
+    build, sync = session.Binding.build, session.Binding.sync
+
+    def marked_build(binding, ed, domain):
+        seen.append(('ran', 'build', domain))
+        return build(binding, ed, domain)
+
+    def marked_sync(binding, ed, inputs):
+        seen.append(('ran', 'factor', inputs.domain))
+        return sync(binding, ed, inputs)
+
+    session.Binding.build, session.Binding.sync = marked_build, marked_sync
+
+    def unmark():
+        session.Binding.build, session.Binding.sync = build, sync
+    return unmark
+
+
+def first(seen, predicate, start=0):
+    return next((i for i in range(start, len(seen)) if predicate(*seen[i])), None)
+
+
+def live_domain_switch(ob, ctrl, seen):
+    """During Live on the 50k grid the domain changes (as the Solver sub-panel sets it;
+    Live has no domain key): the status bar names the rebuild's stages before they run,
+    Live goes on with the new graph and the mesh follows the controller. A second switch
+    cancelled by Esc keeps the graph and leaves the mesh as it was; Enter keeps."""
+    from edge_deform import lifecycle, op_common, session
+    s = ob.edge_deform
+    s.iterations, s.tolerance = 20, 1e-3
+    rest = positions(ob.data)
+    handle = np.flatnonzero(rest[:, 0] > 0.8)
+    with Told() as told:
+        with override():
+            assert bpy.ops.edge_deform.live('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
+        tool = op_common.running_tool(ob)
+        yield from until(lambda: "settled" in (tool.header_text or ""), 120)
+        assert "settled" in tool.header_text, tool.header_text
+        at_cancel = []
+
+        def capture(level, text):   # the key at the moment the switch is cancelled
+            if "cancelled" in text:
+                at_cancel.append(key_positions(ob).tobytes())
+        unmark = marked_graph_work(seen)
+        try:
+            seen.clear()
+            s.domain = 'PRIMAL'
+            yield from until(lambda: any(k == 'end' for k, _, _ in seen), 120)
+            built = first(seen, lambda k, what, d: (k, what, d) == ('ran', 'build', 'PRIMAL'))
+            assert built is not None, seen
+            drawn = first(seen, lambda k, text, _: k == 'drawn'
+                          and "building the vertex graph of" in text)
+            assert drawn is not None and drawn < built, \
+                "the status bar showed the graph building before it ran: %s" % seen
+            factored = first(seen, lambda k, what, d: k == 'ran' and what == 'factor', built)
+            assert factored is not None, seen
+            drawn = first(seen, lambda k, text, _: k == 'drawn' and "factoring" in text
+                          and "graph nodes" in text, built)
+            assert drawn is not None and drawn < factored, \
+                "the status bar showed the factoring before it ran: %s" % seen
+            kinds = [k for k, _, _ in seen]
+            assert kinds.count('begin') == 1 and kinds.count('end') == 1, kinds
+            assert op_common.running_tool(ob) is tool, "Live goes on after the switch"
+            assert session.get(ob.data.as_pointer()).domain == 'PRIMAL'
+            print("live domain switch: %d stages drawn before they ran: ok"
+                  % kinds.count('drawn'))
+
+            # The mesh follows the controller with the new graph.
+            ctrl.location.z += 0.2
+            bpy.context.view_layer.update()
+            offset = (key_positions(ob)[handle] - rest[handle]).mean(axis=0) + [0, 0, 0.2]
+            yield from until(lambda: np.abs((key_positions(ob)[handle] - rest[handle])
+                                            .mean(axis=0) - offset).max() < 1e-4, 60)
+            moved = (key_positions(ob)[handle] - rest[handle]).mean(axis=0)
+            assert np.abs(moved - offset).max() < 1e-4, (moved, offset)
+            print("after the switch the mesh follows the controller (%s): ok"
+                  % tool.header_text)
+
+            # Esc between the stages: the vertex graph stays, the mesh as it was when the
+            # switch began (Live may go on settling afterwards: read it at the cancel).
+            op_common.listeners.append(capture)
+            before = key_positions(ob).tobytes()
+            seen.clear()
+            s.domain = 'EDGE'
+            yield from until(lambda: any(k == 'update' and "building" in t
+                                         for k, t, _ in seen), 60)
+            tap('ESC')
+            yield from until(lambda: told.has('WARNING', "domain switch cancelled"), 60)
+        finally:
+            unmark()
+            if capture in op_common.listeners:
+                op_common.listeners.remove(capture)
+        assert told.has('WARNING', "Domain switch cancelled: the vertex graph is kept"), \
+            told.messages
+        assert op_common.running_tool(ob) is tool, "Esc ended the switch, not Live"
+        assert s.domain == 'PRIMAL' and session.get(ob.data.as_pointer()).domain == 'PRIMAL'
+        assert at_cancel == [before], "a cancelled switch writes nothing"
+        assert [k for k, _, _ in seen if k in ('begin', 'end')] == ['begin', 'end'], seen
+        tap('RET')
+        yield from until(lambda: op_common.running_tool() is None, 60)
+    assert told.has('INFO', "Live Deform:"), told.messages
+    assert lifecycle.owned_key(ob.data) is not None
+    print("Esc during a domain switch keeps the vertex graph, mesh unchanged; Enter "
+          "keeps: ok")
 
 
 def steps():
@@ -132,6 +245,9 @@ def steps():
     assert [k for k, _, _ in seen if k in ('begin', 'end')] == ['begin', 'end'], seen
     print("a long solve stopped by Esc after %d of its 1000 iterations; mesh byte-identical: "
           "ok" % round(1000 * ran))
+
+    # ------------------------------------------------------------ Live: a domain switch
+    yield from live_domain_switch(ob, ctrl, seen)
 
     # ------------------------------------------------------------ chunks = one call
     bpy.data.objects.remove(ob)
