@@ -14,12 +14,10 @@ bl_info = {
     "doc_url": "",
 }
 
-import pathlib
-
 import bpy
 
 from . import (cache_handlers, menus, operators_bake, operators_bind, operators_grab,
-               operators_groups, operators_live, properties, session, ui)
+               operators_groups, operators_live, preferences, properties, session, ui)
 
 # Where things are: lifecycle.py owns the rest shape, the output and their invalidation;
 # engine.py turns settings into solver inputs; mesh_arrays.py moves bpy data to NumPy;
@@ -28,26 +26,19 @@ from . import (cache_handlers, menus, operators_bake, operators_bind, operators_
 _register, _unregister = bpy.utils.register_classes_factory(
     properties.CLASSES + operators_groups.CLASSES + operators_bind.CLASSES
     + operators_live.CLASSES + operators_grab.CLASSES + operators_bake.CLASSES
-    + ui.CLASSES + menus.CLASSES)
-
-
-def manual_url():
-    """file:// URL of the manual: the copy bundled in an installed add-on
-    (edge_deform/docs/addon.md), else the checkout's docs/addon.md (a development run)."""
-    here = pathlib.Path(__file__).resolve().parent
-    for path in (here / "docs" / "addon.md", here.parent.parent / "docs" / "addon.md"):
-        if path.is_file():
-            return path.as_uri()
-    return ""
+    + ui.CLASSES + menus.CLASSES + preferences.CLASSES)
 
 
 def _link_manual():
     """Preferences > Add-ons shows a "Documentation" button for bl_info["doc_url"], read
     from the copy of bl_info that addon_utils parsed from this file (a literal, which
     cannot know where the add-on is installed): give both copies the manual's URL."""
+    info = globals().get("bl_info")
+    if info is None:   # a 4.2+ extension: Blender drops bl_info; its manifest speaks for it
+        return
     import addon_utils
-    url = manual_url()
-    bl_info["doc_url"] = url
+    url = preferences.manual_url()
+    info["doc_url"] = url
     addon_utils.modules(refresh=False)   # (parses bl_info once, as the Preferences do)
     fake = addon_utils.addons_fake_modules.get(__name__)
     if fake is not None:

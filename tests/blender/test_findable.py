@@ -198,8 +198,29 @@ def doc_file(url):
     return path
 
 
+class _RecordingLayout:
+    """Stands in for a UILayout: records the operators a draw() puts on it."""
+
+    def __init__(self):
+        self.operators = []
+
+    def row(self, **_):
+        return self
+
+    def label(self, **kw):
+        self.operators.append(("label", kw.get("text"), None))
+
+    def operator(self, idname, **kw):
+        class Props:
+            url = None
+        props = Props()
+        self.operators.append((idname, kw.get("text"), props))
+        return props
+
+
 def test_info_links_the_manual():
-    path = doc_file(edge_deform.bl_info["doc_url"])
+    from edge_deform import preferences
+    path = doc_file(preferences.manual_url())
     # The copy installed with the add-on (the 4.2+ suites install the extension), else,
     # from a checkout, its docs/addon.md.
     bundled = os.path.join(os.path.dirname(edge_deform.__file__), "docs", "addon.md")
@@ -209,6 +230,19 @@ def test_info_links_the_manual():
     assert os.path.samefile(path, expected), (path, expected)
     with open(path, encoding="utf-8") as f:
         assert f.readline().startswith("# Edge Deform"), path
+    # Preferences > Add-ons > Edge Deform: a Manual button opening it (the only link a
+    # 4.2+ extension has: Blender drops its bl_info) ...
+    cls = preferences.EDGE_DEFORM_AP_preferences
+    assert cls.is_registered and cls.bl_idname == edge_deform.__name__
+    layout = _RecordingLayout()
+    cls.draw(type("Prefs", (), {"layout": layout})(), bpy.context)
+    [(idname, text, props)] = layout.operators
+    assert idname == "wm.url_open" and text == "Manual", layout.operators
+    assert os.path.samefile(doc_file(props.url), path)
+    # ... and the legacy add-on's "Documentation" link (bl_info["doc_url"]) the same page.
+    info = getattr(edge_deform, "bl_info", None)
+    if info is not None:
+        assert os.path.samefile(doc_file(info["doc_url"]), path)
 
 
 if __name__ == "__main__":
