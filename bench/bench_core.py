@@ -218,7 +218,7 @@ PEAK_SCRIPT = """
 import resource, sys
 sys.path.insert(0, {here!r})
 import edgedeform as ed
-from edgedeform.mesh_io import read_mesh
+from edgedeform.mesh_files import read_mesh
 from bench_core import lift_edit
 V, F = read_mesh({path!r})
 handles, static, targets, _ = lift_edit(V)
@@ -234,7 +234,7 @@ ITERATION_SCRIPT = """
 import sys, numpy as np
 sys.path.insert(0, {here!r})
 import edgedeform as ed
-from edgedeform.mesh_io import read_mesh
+from edgedeform.mesh_files import read_mesh
 from bench_core import lift_edit
 V, F = read_mesh({path!r})
 handles, static, targets, _ = lift_edit(V)
@@ -490,6 +490,8 @@ def main(argv=None):
     p.add_argument("--json", default=str(HERE / "results" / "core.json"))
     p.add_argument("--markdown", default=None, help="update this file's core section")
     args = p.parse_args(argv)
+    if args.busy and args.busy_ab:
+        p.error("--busy-ab keeps one core busy itself; with --busy both cores would be")
     global MESHES
     MESHES = Path(args.meshes)
 

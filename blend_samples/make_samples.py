@@ -6,7 +6,8 @@
 Each scene: the mesh (normalised, vertex order as in the file), one vertex group per handle
 ("handle_<name>"), "static", "stiffness" (weight = painted λ on every vertex), an Empty
 controller per handle already moved to the edit (its rest transform recorded on the handle;
-keyed at rest on frame 1 and at the edit on frame 24, where the file opens),
+keyed at rest on frame 1 and at the edit on frame 24, where the file opens with the mesh
+solved: shape key EdgeDeform; frame 1 when the solver is missing),
 the `ob.edge_deform` settings, a camera and Workbench lighting. Settings need the add-on's
 properties: it is enabled if installed, else registered from the source tree (addon/).
 """
@@ -99,11 +100,34 @@ def build_scene(scene):
                 ctrl.keyframe_insert(path, frame=frame)
 
     sc.frame_start, sc.frame_end = 1, EDIT_FRAME
+    sc["edge_deform_edit_frame"] = EDIT_FRAME
     sc.frame_set(EDIT_FRAME)
+    if have_settings:
+        show_edit(ob, sc)
     render.setup_render(sc, 640, 480)
     render.add_camera(sc, np.vstack([V, setup["targets"]]), *scene["view"], aspect=640 / 480)
     sc["edge_deform_title"] = scene["title"]
     return ob, have_settings
+
+
+def show_edit(ob, sc):
+    """The file must open showing what it is about: bind at frame 1 (controllers at rest)
+    and solve at the edit frame, so the mesh shows its deformation (shape key EdgeDeform)
+    where the controllers are. Without the compiled solver, open at frame 1 instead: the
+    mesh at rest and the controllers at rest. Returns the frame the file opens on."""
+    from edge_deform import native
+    try:
+        native.get()
+    except ImportError as exc:
+        print("make_samples: %s; %s opens at frame 1 (at rest)" % (exc, ob.name))
+        sc.frame_set(1)
+        return 1
+    bpy.context.view_layer.objects.active = ob
+    sc.frame_set(1)
+    assert bpy.ops.edge_deform.bind() == {"FINISHED"}
+    sc.frame_set(EDIT_FRAME)
+    assert bpy.ops.edge_deform.solve() == {"FINISHED"}
+    return EDIT_FRAME
 
 
 def main(argv):

@@ -28,6 +28,11 @@ if(CMAKE_SCRIPT_MODE_FILE)
     file(MAKE_DIRECTORY ${root})
     file(GLOB items ${ED_ADDON_SRC}/*)
     file(COPY ${items} DESTINATION ${root} PATTERN __pycache__ EXCLUDE PATTERN *.pyc EXCLUDE)
+    # The manual, docs/addon.md with its pictures: bl_info's "doc_url" opens this copy.
+    get_filename_component(docs ${ED_ADDON_SRC}/../../docs ABSOLUTE)
+    file(GLOB pictures ${docs}/img/addon_*.png)
+    file(COPY ${docs}/addon.md DESTINATION ${root}/docs)
+    file(COPY ${pictures} DESTINATION ${root}/docs/img)
     if(flat)
       ed_stage_wheel(${root})
     else()
@@ -172,7 +177,8 @@ set(EDGEDEFORM_ADDON_ZIP ${ED_ZIP} CACHE INTERNAL "")
 set(EDGEDEFORM_EXTENSION_ZIP ${ED_EXT_ZIP} CACHE INTERNAL "")
 set(_ed_stage ${CMAKE_BINARY_DIR}/addon_stage)
 file(MAKE_DIRECTORY ${_ed_stage}/zip ${_ed_stage}/extension)  # working directories of the zip commands
-file(GLOB_RECURSE _ed_sources CONFIGURE_DEPENDS ${ED_ADDON_SRC}/*.py ${ED_ADDON_SRC}/*.toml)
+file(GLOB_RECURSE _ed_sources CONFIGURE_DEPENDS ${ED_ADDON_SRC}/*.py ${ED_ADDON_SRC}/*.toml
+     ${CMAKE_SOURCE_DIR}/docs/addon.md ${CMAKE_SOURCE_DIR}/docs/img/addon_*.png)
 
 add_custom_target(addon_zip ALL
   COMMAND ${CMAKE_COMMAND} -DED_ACTION=stage -DED_ADDON_SRC=${ED_ADDON_SRC}

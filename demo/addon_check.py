@@ -91,7 +91,8 @@ def _script(argv):
     ob.data.vertices.foreach_get("co", rest)
     np.save(npy.replace("_addon.npy", "_rest.npy"), rest.reshape(-1, 3).astype(np.float64))
     # As the sample README says: Bind at frame 1 (controllers at rest), Solve at the edit.
-    edit_frame = bpy.context.scene.frame_current
+    edit_frame = bpy.context.scene.get("edge_deform_edit_frame",
+                                       bpy.context.scene.frame_current)
     bpy.context.scene.frame_set(1)
     if bpy.ops.edge_deform.bind() != {"FINISHED"}:
         raise SystemExit("addon_check: bind did not finish")

@@ -151,7 +151,7 @@ def controller_state(ob, inputs):
 
 class IterationBudget:
     """Iterations per tick for the modal tools: at most `iterations`, and no more than fit
-    in `budget_ms` (at least one), so a large mesh stays responsive; the tools keep
+    in `budget_ms` (at least two), so a large mesh stays responsive; the tools keep
     iterating on later ticks until the solve converges."""
 
     def __init__(self, budget_ms=40.0):
@@ -159,9 +159,15 @@ class IterationBudget:
         self.ms_per_iteration = None
 
     def iterations(self, limit):
+        # At least two: warm solve calls of one iteration each follow the same iterates
+        # but may not report convergence (measured on the plane, a shear-and-bend at
+        # λ 0.5: still unconverged after 1500 one-iteration calls, where calls of 2 or
+        # more stop at iteration 1519, as one long call does). A 50k mesh at ~43 ms an
+        # iteration got one iteration a tick and might never settle.
+        least = min(2, int(limit))
         if not self.ms_per_iteration:
-            return 1            # first tick: measure
-        return max(1, min(int(limit), int(self.budget_ms / self.ms_per_iteration)))
+            return least        # first tick: measure
+        return max(least, min(int(limit), int(self.budget_ms / self.ms_per_iteration)))
 
     def record(self, result, elapsed_ms):
         self.ms_per_iteration = elapsed_ms / max(1, result.iterations)

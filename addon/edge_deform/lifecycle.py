@@ -121,21 +121,48 @@ def _rest(mesh):
 
 # ------------------------------------------------------------------ the solver cache
 
-def _binding(mesh, inputs, X, digest):
-    """The cached Binding of `mesh` for this rest shape, rebuilt when stale."""
+def _to_end(steps):
+    """Run a generator of stages in one go; its result."""
+    while True:
+        try:
+            next(steps)
+        except StopIteration as done:
+            return done.value
+
+
+def _graph_steps(binding, inputs, what, fractions=(0.0, 0.5)):
+    """Build `binding`'s graph for inputs.domain and factor it: yields (fraction, text)
+    before each of these two long stages (the status text names the work)."""
+    graph = "edge" if inputs.domain == 'EDGE' else "vertex"
+    yield fractions[0], "%s: building the %s graph of %d triangles…" % (
+        what, graph, len(binding.F))
+    t0 = time.perf_counter()
+    binding.build(native.get(), inputs.domain)
+    build_ms = (time.perf_counter() - t0) * 1e3   # (not the redraws between the stages)
+    yield fractions[1], "%s: factoring %s graph nodes…" % (
+        what, _count(binding.deformer.n_nodes))
+    t0 = time.perf_counter()
+    binding.sync(native.get(), inputs)
+    binding.bind_ms = build_ms + (time.perf_counter() - t0) * 1e3
+
+
+def _binding_steps(mesh, inputs, X, digest, what, fractions):
+    """The cached Binding of `mesh` for this rest shape and domain; a stale one (or one of
+    the other domain) is replaced by a new Binding built in stages (_graph_steps). The
+    cache keeps the old one until the new one is complete, so closing the generator
+    early leaves everything as it was."""
     pointer = mesh.as_pointer()
     binding = session.get(pointer)
-    if binding is None or binding.digest != digest or binding.rest_key != session.rest_key(X):
-        t0 = time.perf_counter()
-        F = mesh_arrays.read_triangles(mesh)
-        if F.shape[0] == 0:
-            raise Refused("The mesh has no faces")
-        binding = session.Binding(pointer, mesh_arrays.topology_counts(mesh), digest, X, F)
+    if (binding is not None and binding.digest == digest
+            and binding.rest_key == session.rest_key(X) and binding.domain == inputs.domain):
         binding.sync(native.get(), inputs)
-        binding.bind_ms = (time.perf_counter() - t0) * 1e3
-        session.put(binding)
-    else:
-        binding.sync(native.get(), inputs)
+        return binding
+    F = mesh_arrays.read_triangles(mesh)
+    if F.shape[0] == 0:
+        raise Refused("The mesh has no faces")
+    binding = session.Binding(pointer, mesh_arrays.topology_counts(mesh), digest, X, F)
+    yield from _graph_steps(binding, inputs, what, fractions)
+    session.put(binding)
     return binding
 
 
@@ -196,16 +223,26 @@ def output_settings(ob):
     return ob.edge_deform.output, ob.edge_deform.shape_key_name
 
 
-def prepare(ob, inputs=None, require_handles=True):
-    """Check the object and its mesh and bind: a Bound ready to solve, or Refused."""
+def prepare_steps(ob, inputs=None, require_handles=True, what=None,
+                  fractions=(0.0, 0.5)):
+    """Check the object and its mesh and bind: a generator that yields (fraction, text)
+    before building and factoring a graph when the cached one cannot be used (a new
+    domain, rest or topology), and returns a Bound ready to solve, or raises Refused
+    before anything changes. `what` starts the status texts."""
     if inputs is None:
         inputs = engine.gather_inputs(ob, require_handles=require_handles)
     mesh = ob.data
     digest = mesh_arrays.topology_digest(mesh)
     _check_output(ob, digest)
-    binding = _binding(mesh, inputs, _rest(mesh), digest)
+    binding = yield from _binding_steps(mesh, inputs, _rest(mesh), digest,
+                                        what or "'%s'" % ob.name, fractions)
     binding.inputs_owner = ob.name_full   # a linked duplicate has settings of its own
     return Bound(ob, inputs, binding, _hash(mesh_arrays.read_positions32(mesh)))
+
+
+def prepare(ob, inputs=None, require_handles=True):
+    """prepare_steps in one go."""
+    return _to_end(prepare_steps(ob, inputs, require_handles))
 
 
 def cached_inputs(ob):
@@ -216,6 +253,34 @@ def cached_inputs(ob):
             or binding.counts != mesh_arrays.topology_counts(ob.data)):
         return None
     return engine.with_global_changes(binding.inputs, ob)
+
+
+def deform_steps(ob, chunk_ms=100.0):
+    """Solve from scratch in chunks of iterations, for a Solve that Esc can stop: a
+    generator yielding (fraction, text) between chunks; writes only after the last chunk
+    and returns (Bound, SolveResult of the last chunk, iterations in all). The chunks
+    continue one iteration (warm starts with unchanged targets keep the Anderson history,
+    docs/api.md), so the result is the one-call `deform(ob)`'s."""
+    s = ob.edge_deform
+    # A graph to build first (the domain changed since the last solve) is named in the
+    # status; the progress then follows the iterations.
+    bound = yield from prepare_steps(ob, what="Deforming '%s'" % ob.name,
+                                     fractions=(0.0, 0.0))
+    targets, limit, done = bound.targets(), int(s.iterations), 0
+    budget = engine.IterationBudget(chunk_ms)
+    while True:
+        yield done / max(1, limit), "Deforming '%s': %d/%d iterations…" % (ob.name, done, limit)
+        n = min(budget.iterations(limit), limit - done)
+        if limit - done - n == 1:
+            n += 1   # no one-iteration chunk at the end (it may not see convergence)
+        t0 = time.perf_counter()
+        r = bound.solve(targets, n, s.tolerance, warm=done > 0)
+        budget.record(r, (time.perf_counter() - t0) * 1e3)
+        done += r.iterations
+        if r.converged or done >= limit or r.iterations < n:
+            break
+    bound.write(r.positions)
+    return bound, r, done
 
 
 def deform(ob, warm=False, reuse_inputs=False, iterations=None):
@@ -327,13 +392,27 @@ def write_baked(ob, frames, results, step):
 # ------------------------------------------------------------------ bind, apply, unbind
 
 def bind(ob):
-    """The current base mesh and controller transforms become the rest. Nothing is
-    written unless binding succeeds."""
+    """Bind in one go (see bind_steps)."""
+    return _to_end(bind_steps(ob))
+
+
+def bind_steps(ob):
+    """The current base mesh and controller transforms become the rest. A generator
+    yielding (fraction, text) before each long stage (reading, building the graph,
+    factoring: progress for the user), returning the Binding. Nothing is written unless
+    every stage succeeds."""
+    yield 0.0, "Binding '%s': reading %d vertices and the groups…" % (
+        ob.name, len(ob.data.vertices))
     inputs = engine.gather_inputs(ob)
     mesh = ob.data
     digest = mesh_arrays.topology_digest(mesh)
-    session.drop(mesh.as_pointer())
-    binding = _binding(mesh, inputs, mesh_arrays.read_positions(mesh), digest)
+    X, F = mesh_arrays.read_positions(mesh), mesh_arrays.read_triangles(mesh)
+    if F.shape[0] == 0:
+        raise Refused("The mesh has no faces")
+    binding = session.Binding(mesh.as_pointer(), mesh_arrays.topology_counts(mesh), digest,
+                              X, F)
+    yield from _graph_steps(binding, inputs, "Binding '%s'" % ob.name, (0.2, 0.4))
+    session.put(binding)   # (replaces the mesh's old binding)
     st = _state(mesh)
     if st.output == 'MESH':   # the base holds the shape the user accepts as the new rest
         mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
@@ -341,6 +420,14 @@ def bind(ob):
     st.topology = digest
     engine.record_rest_transforms(ob)
     return binding
+
+
+def _count(n):
+    """150k, 1.2M: a count for a status text."""
+    for size, unit in ((1e6, "M"), (1e3, "k")):
+        if n >= size:
+            return "%.3g%s" % (n / size, unit)
+    return str(n)
 
 
 def apply(ob):

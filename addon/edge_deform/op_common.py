@@ -73,31 +73,145 @@ def guarded(method):
     return execute
 
 
-# Callables (event, text) told when long work starts ('begin') and ends ('end').
+# Callables (kind, text, fraction) told of long work: 'begin', 'update' (a new stage or
+# fraction), 'drawn' (the status bar showed `text`: the user saw it) and 'end'.
 progress_listeners = []
+
+
+def _progress(kind, text, fraction):
+    for listen in progress_listeners:
+        listen(kind, text, fraction)
+
+
+def _show_status(workspace, text, fraction):
+    def draw(layout):
+        layout.label(text=text, icon='TIME')
+        _progress('drawn', text, fraction)
+    compat.status_bar(workspace, draw)
 
 
 @contextlib.contextmanager
 def busy(context, text):
     """Long work on the main thread (Bind, Solve, Bake): Blender's progress indicator and
     wait cursor, and what is happening in the status bar, until the work ends.
-    Yields update(fraction) for work that knows how far it got."""
-    wm, window = context.window_manager, context.window
-    for listen in progress_listeners:
-        listen('begin', text)
+    Yields update(fraction, text=None): how far the work got, and what it does now."""
+    wm, window, workspace = context.window_manager, context.window, context.workspace
+    _progress('begin', text, 0.0)
     wm.progress_begin(0.0, 1.0)
     if window is not None:
         window.cursor_modal_set('WAIT')
-    compat.status_bar(context.workspace, lambda layout: layout.label(text=text, icon='TIME'))
+    _show_status(workspace, text, 0.0)
+
+    def update(fraction, stage=None):
+        wm.progress_update(fraction)
+        if stage is not None:
+            _show_status(workspace, stage, fraction)
+        _progress('update', stage or text, fraction)
+
     try:
-        yield wm.progress_update
+        yield update
     finally:
         wm.progress_end()
         if window is not None:
             window.cursor_modal_restore()
-        compat.status_bar(context.workspace, None)
-        for listen in progress_listeners:
-            listen('end', text)
+        compat.status_bar(workspace, None)
+        _progress('end', text, 1.0)
+
+
+class Stages:
+    """Long work written as a generator of (fraction, text) before each stage, run one
+    stage per advance() call, with busy()'s progress, wait cursor and status text from
+    the first call until the work ends. Between calls Blender redraws, so the user sees
+    what the next stage does before it runs. stop() (idempotent) closes the generator
+    early: work written that way touches no bpy data before its last stage."""
+
+    def __init__(self, context, text, steps):
+        self.steps, self.stage = steps, text
+        self.busy = busy(context, text)
+        self.update = self.busy.__enter__()
+
+    def advance(self):
+        """Run the next stage: (True, the work's result) when it ended (then stopped),
+        else (False, None) with the next stage's text shown. An exception stops it."""
+        try:
+            fraction, self.stage = next(self.steps)
+        except StopIteration as done:
+            self.stop()
+            return True, done.value
+        except BaseException:
+            self.stop()
+            raise
+        self.update(fraction, self.stage)
+        return False, None
+
+    def run_to_end(self):
+        while True:
+            done, result = self.advance()
+            if done:
+                return result
+
+    def stop(self):
+        steps, self.steps = self.steps, None
+        if steps is not None:
+            steps.close()
+            self.busy.__exit__(None, None, None)
+
+
+def run_steps(context, text, steps):
+    """Run long work written as a generator of (fraction, what it does next) in one go
+    (scripts, EXEC_DEFAULT), with the progress shown; returns the generator's result."""
+    return Stages(context, text, steps).run_to_end()
+
+
+class StepsJob:
+    """Long work from the UI, one step per timer tick (an operator mix-in): between steps
+    Blender redraws, so the status bar says what the next step does, the progress
+    advances, and Esc cancels. `steps` yields (fraction, text) before each step and
+    returns the result; nothing may be written to bpy data before its last step, so a
+    cancel leaves the data as it was. The operator defines job_done(context, result) and
+    job_cancelled(context)."""
+
+    def start_job(self, context, text, steps):
+        self.job = Stages(context, text, steps)
+        self.job_area = context.area
+        wm = context.window_manager
+        self.job_timer = wm.event_timer_add(0.01, window=context.window)
+        wm.modal_handler_add(self)
+        return {'RUNNING_MODAL'}
+
+    def modal(self, context, event):
+        if event.type == 'ESC' and event.value == 'PRESS':
+            self.stop_job(context)
+            self.job_cancelled(context)
+            return {'CANCELLED'}
+        if event.type != 'TIMER':
+            return {'RUNNING_MODAL'}   # the rest of the UI waits for the work
+        try:
+            done, result = self.job.advance()
+        except Exception as exc:  # noqa: BLE001 - reported; nothing written before the end
+            self.stop_job(context)
+            tell(self, 'ERROR', error_text(exc))
+            return {'CANCELLED'}
+        if done:
+            self.stop_job(context)
+            return _reported(self, lambda: self.job_done(context, result))
+        self._job_header("%s  (Esc: cancel)" % self.job.stage)
+        return {'RUNNING_MODAL'}
+
+    def _job_header(self, text):
+        try:
+            if self.job_area is not None:
+                self.job_area.header_text_set(text)
+        except ReferenceError:
+            pass
+
+    def stop_job(self, context):
+        context.window_manager.event_timer_remove(self.job_timer)
+        self._job_header(None)
+        self.job.stop()
+
+    def cancel(self, context):   # the window closes or a file loads
+        self.stop_job(context)
 
 
 def report_lines(op, lines):

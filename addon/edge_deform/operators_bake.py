@@ -7,7 +7,7 @@ from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, IntProperty
 
 from . import engine, lifecycle
-from .op_common import busy, error_text, guarded, poll_mesh, tell
+from .op_common import StepsJob, error_text, guarded, poll_mesh, run_steps, tell
 
 _state = {"baking": False, "errors": {}}
 
@@ -45,7 +45,7 @@ def on_frame_change(scene, depsgraph=None):
             print("Edge Deform (%s, frame %d): %s" % (ob.name, scene.frame_current, problem))
 
 
-class EDGE_DEFORM_OT_bake(bpy.types.Operator):
+class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
     """Solve every frame of a range and store the results as shape keys keyed over time"""
     bl_idname = "edge_deform.bake"
     bl_label = "Bake Frames"
@@ -92,72 +92,39 @@ class EDGE_DEFORM_OT_bake(bpy.types.Operator):
             self.scene.frame_set(self.frame0)
             _state["baking"] = False
 
-    def write(self):
+    def steps(self):
+        """Solve every frame, one per step; the keys are written only after the last."""
+        n = len(self.todo)
+        while len(self.results) < n:
+            yield len(self.results) / n, "Baking: frame %d/%d" % (len(self.results) + 1, n)
+            self.solve_next()
+        return None
+
+    def job_done(self, context, _):
         ob, s = self.ob, self.ob.edge_deform
         made = lifecycle.write_baked(ob, self.todo, self.results, self.frame_step)
         s.animate = False
         self.scene.frame_set(self.frame0)
         tell(self, 'INFO', "Baked %d frames (%d-%d) into shape keys '%s.####'"
              % (len(made), self.todo[0], self.todo[-1], s.shape_key_name))
+        return {'FINISHED'}
+
+    def job_cancelled(self, context):
+        tell(self, 'WARNING', "Bake cancelled after %d of %d frames; nothing was "
+                              "written" % (len(self.results), len(self.todo)))
 
     @guarded
     def execute(self, context):
         self.begin(context)
-        with busy(context, "Baking %d frames…" % len(self.todo)) as progress:
-            while len(self.results) < len(self.todo):
-                self.solve_next()
-                progress(len(self.results) / len(self.todo))
-        self.write()
-        return {'FINISHED'}
+        return self.job_done(context, run_steps(context, "Baking %d frames…" % len(self.todo),
+                                                self.steps()))
 
     @guarded
     def invoke(self, context, event):
         """From the UI: one frame per timer tick, so the window redraws, shows
         "Frame 12/24" and Esc cancels with the data as before."""
         self.begin(context)
-        self.busy = busy(context, "Baking %d frames…  Esc: cancel" % len(self.todo))
-        self.progress = self.busy.__enter__()
-        self.area = context.area
-        wm = context.window_manager
-        self.timer = wm.event_timer_add(0.001, window=context.window)
-        wm.modal_handler_add(self)
-        return {'RUNNING_MODAL'}
-
-    def modal(self, context, event):
-        if event.type == 'ESC' and event.value == 'PRESS':
-            self.stop(context)
-            tell(self, 'WARNING', "Bake cancelled after %d of %d frames; nothing was "
-                                  "written" % (len(self.results), len(self.todo)))
-            return {'CANCELLED'}
-        if event.type != 'TIMER':
-            return {'RUNNING_MODAL'}   # the rest of the UI waits for the bake
-        try:
-            self.solve_next()
-            self.progress(len(self.results) / len(self.todo))
-            if self.area is not None:
-                self.area.header_text_set("Baking: frame %d/%d  (Esc: cancel)"
-                                          % (len(self.results), len(self.todo)))
-            if len(self.results) < len(self.todo):
-                return {'RUNNING_MODAL'}
-            self.stop(context)
-            self.write()
-            return {'FINISHED'}
-        except Exception as exc:  # noqa: BLE001 - reported; nothing written on error
-            self.stop(context)
-            tell(self, 'ERROR', error_text(exc))
-            return {'CANCELLED'}
-
-    def stop(self, context):
-        context.window_manager.event_timer_remove(self.timer)
-        try:
-            if self.area is not None:
-                self.area.header_text_set(None)
-        except ReferenceError:
-            pass
-        self.busy.__exit__(None, None, None)
-
-    def cancel(self, context):   # the window closes or a file loads
-        self.stop(context)
+        return self.start_job(context, "Baking %d frames…" % len(self.todo), self.steps())
 
 
 def register_handlers():

@@ -7,10 +7,10 @@ import bpy
 from bpy.props import BoolProperty
 
 from . import engine, lifecycle
-from .op_common import busy, guarded, poll_mesh, report_lines, tell
+from .op_common import StepsJob, busy, guarded, poll_mesh, report_lines, run_steps, tell
 
 
-class EDGE_DEFORM_OT_bind(bpy.types.Operator):
+class EDGE_DEFORM_OT_bind(StepsJob, bpy.types.Operator):
     """Get the mesh ready to deform: the mesh and controllers as they are now become the
     rest pose. Takes a moment on big meshes; every later update is quick"""
     bl_idname = "edge_deform.bind"
@@ -21,18 +21,33 @@ class EDGE_DEFORM_OT_bind(bpy.types.Operator):
     def poll(cls, context):
         return poll_mesh(cls, context, ('OBJECT',), need_handles=True)
 
+    def text(self, ob):
+        return "Binding '%s' (%d vertices)…" % (ob.name, len(ob.data.vertices))
+
     @guarded
     def execute(self, context):
         ob = context.active_object
-        with busy(context, "Binding '%s' (%d vertices)…" % (ob.name, len(ob.data.vertices))):
-            binding = lifecycle.bind(ob)
+        return self.job_done(context, run_steps(context, self.text(ob), lifecycle.bind_steps(ob)))
+
+    @guarded
+    def invoke(self, context, event):
+        """From the UI: one stage per timer tick, so the status bar says what happens
+        (reading, building the graph, factoring) and Esc cancels between stages."""
+        ob = context.active_object
+        self.object_name = ob.name
+        return self.start_job(context, self.text(ob), lifecycle.bind_steps(ob))
+
+    def job_done(self, context, binding):
         d = binding.deformer
         tell(self, 'INFO', "Bound %d vertices, %d nodes (%s), %.1f ms"
                     % (d.n_vertices, d.n_nodes, binding.domain.lower(), binding.bind_ms))
         return {'FINISHED'}
 
+    def job_cancelled(self, context):
+        tell(self, 'WARNING', "Bind of '%s' cancelled; nothing changed" % self.object_name)
 
-class EDGE_DEFORM_OT_solve(bpy.types.Operator):
+
+class EDGE_DEFORM_OT_solve(StepsJob, bpy.types.Operator):
     """Deform the mesh once to follow where the controllers are now"""
     bl_idname = "edge_deform.solve"
     bl_label = "Solve"
@@ -50,13 +65,32 @@ class EDGE_DEFORM_OT_solve(bpy.types.Operator):
     @guarded
     def execute(self, context):
         ob = context.active_object
-        t0 = time.perf_counter()
+        self.t0 = time.perf_counter()
         with busy(context, "Deforming '%s'…" % ob.name):
             bound, r = lifecycle.deform(ob, warm=self.warm_start)
-        lines, text, _ = engine.status(r, (time.perf_counter() - t0) * 1e3)
+        return self.job_done(context, (bound, r, r.iterations))
+
+    @guarded
+    def invoke(self, context, event):
+        """From the UI: the iterations run in chunks of about 0.1 s, one per timer tick,
+        so the progress advances and Esc stops the solve with the mesh as it was."""
+        if self.warm_start:
+            return self.execute(context)
+        ob = context.active_object
+        self.object_name, self.t0 = ob.name, time.perf_counter()
+        return self.start_job(context, "Deforming '%s'…" % ob.name,
+                              lifecycle.deform_steps(ob))
+
+    def job_done(self, context, result):
+        bound, r, iterations = result
+        lines, text, _ = engine.status(r, (time.perf_counter() - self.t0) * 1e3, iterations)
         report_lines(self, [('WARNING', w) for w in bound.warnings()] + lines)
         tell(self, 'INFO', "Solved: " + text)
         return {'FINISHED'}
+
+    def job_cancelled(self, context):
+        tell(self, 'WARNING', "Solve of '%s' cancelled; the mesh is as it was"
+             % self.object_name)
 
 
 class EDGE_DEFORM_OT_apply(bpy.types.Operator):

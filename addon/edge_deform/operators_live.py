@@ -9,6 +9,11 @@ and converge over the following ticks. Only this main-thread timer touches bpy.
 While the object is in another mode (the user entered Edit Mode from the menu) the tool
 pauses; back in Object Mode it binds again (the topology may have changed). Undo or the
 object's deletion end it cleanly.
+
+A domain change (from the panel) needs a new graph, built and factored: seconds on a big
+mesh. Live runs it as stages, one per tick (op_common.Stages): the status bar names each
+stage before it runs, with the progress and the wait cursor; Esc between stages keeps the
+previous domain and its graph, the mesh untouched (nothing is written until it is done).
 """
 
 import time
@@ -16,7 +21,7 @@ import time
 import bpy
 
 from . import compat, engine, lifecycle
-from .op_common import ModalTool, error_text, guarded, poll_mesh, tell
+from .op_common import ModalTool, Stages, error_text, guarded, poll_mesh, tell
 
 LAMBDA_STEP = 0.05
 # λ keys that shadow no navigation: ] / [ and Ctrl+wheel (the plain wheel and numpad +/-
@@ -63,6 +68,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.converged = False
         self.paused = False
         self.problem = None
+        self.switch = None          # a domain switch in progress (Stages), see start_switch
         self.refused_for = None
         self.stats = "no solve yet"
         self.updates = 0
@@ -79,6 +85,9 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
 
     def update(self, context):
         ob, s = self.ob, self.ob.edge_deform
+        if self.switch is not None:
+            self.advance_switch()
+            return
         if ob.mode != 'OBJECT':
             self.paused = True          # Blender's own tools own the mesh now
             self.show("paused: back to Object Mode to continue")
@@ -90,6 +99,9 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                     or lifecycle.output_settings(ob) != self.bound.output):
                 self.rebind()
             settings_state = (s.stiffness, s.domain)
+            if s.domain != self.bound.binding.domain:
+                self.start_switch(context)
+                return
             if settings_state != self.settings_state:
                 self.bound.settings_changed()
                 self.settings_state = settings_state
@@ -126,6 +138,54 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.updates += 1
         self.stats = text
         self.show(self.stats)
+
+    # ------------------------------------------------------------ domain switch
+
+    def start_switch(self, context):
+        """Begin building the new domain's graph: this tick only shows what comes."""
+        s = self.ob.edge_deform
+        self.switch_from = self.bound.binding.domain
+        self.switch_to = (s.stiffness, s.domain)
+        inputs = engine.with_global_changes(self.bound.inputs, self.ob)
+        self.switch = Stages(context, "Live Deform: switching to the %s graph…" % (
+            "edge" if s.domain == 'EDGE' else "vertex"),
+            lifecycle.prepare_steps(self.ob, inputs, what="Live Deform"))
+        self.header("%s  (Esc: keep the previous domain)" % self.switch.stage)
+
+    def advance_switch(self):
+        """One stage of the switch per tick; at its end Live solves with the new graph."""
+        try:
+            done, bound = self.switch.advance()
+        except Exception as exc:  # noqa: BLE001 - the previous domain stays in use
+            self.switch = None
+            self.ob.edge_deform.domain = self.switch_from
+            tell(self, 'ERROR', error_text(exc) + " (the previous domain is kept)")
+            self.show(self.stats)
+            return
+        if not done:
+            self.header("%s  (Esc: keep the previous domain)" % self.switch.stage)
+            return
+        self.switch = None
+        self.bound, self.settings_state = bound, self.switch_to
+        self.controllers_state, self.converged = None, False
+        self.settle_iterations, self.settle_ms = 0, 0.0
+        self.budget = engine.IterationBudget()   # the new graph has its own speed
+        self.show("new graph ready, solving…")
+
+    def cancel_switch(self):
+        """Esc during a switch: the previous domain and graph stay; nothing was written."""
+        self.switch.stop()
+        self.switch = None
+        self.ob.edge_deform.domain = self.switch_from
+        tell(self, 'WARNING', "Domain switch cancelled: the %s graph is kept" % (
+            "edge" if self.switch_from == 'EDGE' else "vertex"))
+        self.show(self.stats)
+
+    def end_modal(self, context):
+        if self.switch is not None:   # (any way out: the progress and cursor end too)
+            self.switch.stop()
+            self.switch = None
+        super().end_modal(context)
 
     def settings_key(self):
         """What the user may change to fix a refusal (settings, groups, mode)."""
@@ -198,6 +258,9 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                 tell(self, 'WARNING', "Confirm or cancel Live Deform before undoing")
                 return {'RUNNING_MODAL'}
         if event.value == 'PRESS' and event.type == 'ESC':
+            if self.switch is not None:
+                self.cancel_switch()
+                return {'RUNNING_MODAL'}
             return self.cancel_and_restore(context)
         return {'PASS_THROUGH'}
 
@@ -213,6 +276,8 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.update(context)
 
     def finish(self, context):
+        while self.switch is not None:   # Enter during a domain switch: complete it
+            self.advance_switch()
         self.update(context)   # the last controller move may not be solved yet
         self.end_modal(context)
         self.snapshot.discard()

@@ -51,10 +51,7 @@ class Binding:
         for the parts that failed (their keys are only updated after success).
         """
         if self.deformer is None or self.domain != inputs.domain:
-            self.deformer = ed.Deformer(self.X, self.F, domain=inputs.domain.lower())
-            self.domain = inputs.domain
-            self.constraint_key = self.stiffness_key = None
-            self.last = None
+            self.build(ed, inputs.domain)
         ckey = _digest(inputs.handles, inputs.static, inputs.roi)
         if ckey != self.constraint_key:
             self.constraint_key = None
@@ -69,6 +66,13 @@ class Binding:
             self.deformer.set_stiffness(lam)
             self.stiffness_key = skey
         self.inputs = inputs
+
+    def build(self, ed, domain):
+        """A new Deformer (the graph) for `domain`; constraints and stiffness come next."""
+        self.deformer = ed.Deformer(self.X, self.F, domain=domain.lower())
+        self.domain = domain
+        self.constraint_key = self.stiffness_key = None
+        self.last = None
 
     def use_constraints(self, handles, static, roi):
         """Temporary constraints (the grab tool); the next sync() restores the settings'."""

@@ -36,6 +36,13 @@ def target(layout, context):
     return ob
 
 
+def narrow(context):
+    """Is the sidebar narrower than its default (about 230 px at 100 % scale)? Rows of
+    three buttons stack then."""
+    region = context.region
+    return region is not None and region.width < 200 * context.preferences.system.ui_scale
+
+
 class _Panel:
     bl_space_type = 'VIEW_3D'
     bl_region_type = 'UI'
@@ -52,10 +59,11 @@ class EDGE_DEFORM_UL_handles(bpy.types.UIList):
     would shrink to a letter each); the active handle's fields are edited below the list."""
 
     def draw_item(self, context, layout, data, item, icon, active_data, active_prop):
-        row = layout.row(align=True)
-        row.label(text=item.vertex_group or "(no group)", icon='GROUP_VERTEX')
-        row.label(text=item.controller.name if item.controller else "(no controller)",
-                  icon='EMPTY_AXIS')
+        # One label: two half-width labels cut the controller's name to its first letter
+        # in a narrow sidebar; a single one is shortened in its middle, both ends stay.
+        layout.label(text="%s → %s" % (item.vertex_group or "(no group)",
+                                       item.controller.name if item.controller
+                                       else "(no controller)"), icon='GROUP_VERTEX')
 
 
 class EDGE_DEFORM_OT_select_controller(bpy.types.Operator):
@@ -135,8 +143,7 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
         elif not s.handles:
             layout.label(text="Add a handle: Edit Mode, select, +", icon='INFO')
         elif bound:
-            layout.label(text="Bound (%s)" % ("edge graph" if s.domain == 'EDGE'
-                                              else "primal"), icon='LINKED')
+            layout.label(text="Bound", icon='LINKED')   # (the graph: Solver sub-panel)
         else:
             layout.label(text="Not bound", icon='UNLINKED')
 
@@ -147,14 +154,15 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
         else:
             col.operator("edge_deform.live", icon='PLAY')
         col = layout.column(align=True)
-        row = col.row(align=True)
-        # Bind and Unbind swap, as in Laplacian Deform: one of them at a time.
+        # Bind and Unbind swap, as in Laplacian Deform: one of them at a time, on a row of
+        # its own ("Unbind" beside "Solve" was cut to "Unb…" in a narrow sidebar).
         if bound:
-            row.operator("edge_deform.unbind", icon='UNLINKED')
+            col.operator("edge_deform.unbind", icon='UNLINKED')
         else:
-            row.operator("edge_deform.bind", icon='LINKED')
+            col.operator("edge_deform.bind", icon='LINKED')
+        row = col.row(align=True)
         row.operator("edge_deform.solve", icon='FILE_REFRESH')
-        col.operator("edge_deform.apply", icon='CHECKMARK')
+        row.operator("edge_deform.apply", icon='CHECKMARK')
         problem = operators_bake.frame_problem(ob) if s.animate else None
         if problem:
             layout.label(text=problem, icon='ERROR')
@@ -213,19 +221,20 @@ class EDGE_DEFORM_PT_stiffness(_SubPanel, bpy.types.Panel):
         row = layout.row()
         row.active = not s.stiffness_group   # a group overrides the global value
         row.prop(s, "stiffness", slider=True, text="λ")
-        layout.label(text="Painted Stiffness Group")
+        layout.label(text="Painted Group")   # (the sub-panel says it is stiffness)
         row = layout.row(align=True)
         row.prop_search(s, "stiffness_group", ob, "vertex_groups", text="")
         row.operator("edge_deform.paint_stiffness", text="", icon='BRUSH_DATA')
         if s.stiffness_group:
-            layout.label(text="The group overrides λ", icon='INFO')
-        row = layout.row(align=True)
+            layout.label(text="Group sets λ", icon='INFO')
+        # Side by side, or stacked in a narrow sidebar (else cut to "Med…" and "Rig…").
+        row = layout.column(align=True) if narrow(context) else layout.row(align=True)
         row.enabled = ob.mode in {'EDIT', 'WEIGHT_PAINT'}
         for preset in ("SOFT", "MEDIUM", "RIGID"):
             row.operator("edge_deform.assign_stiffness", text=preset.title()).preset = preset
         # What the weight colours mean (Weight Paint: red = weight 1, blue = 0). Two short
         # items: three were cut to "Ri…" in a narrow sidebar.
-        legend = layout.row(align=True)
+        legend = layout.column(align=True) if narrow(context) else layout.row(align=True)
         legend.scale_y = 0.8
         legend.label(text="Rigid 1", icon=compat.icon('STRIP_COLOR_01', 'SEQUENCE_COLOR_01'))
         legend.label(text="Soft 0", icon=compat.icon('STRIP_COLOR_05', 'SEQUENCE_COLOR_05'))

@@ -1,5 +1,7 @@
 #include "edgedeform/constrained_system.h"
 
+#include "edgedeform/stiffness.h"
+
 #include <algorithm>
 #include <deque>
 #include <stdexcept>
@@ -99,13 +101,26 @@ std::vector<Role> vertex_roles(int n, const std::vector<bool>& referenced, const
   return role;
 }
 
+void require_jacobians(const ConstrainedSystem& sys) {
+  if (!sys.has_jacobians)
+    throw std::logic_error("the constrained system has no J1, J2: assemble the system it was restricted from");
+}
+
 }  // namespace
 
 ConstrainedSystem build_constrained_system(const NodeGraph& g, const RowMatrixX3d& rest, const RowMatrixX2i& mesh_edges,
                                            const std::vector<bool>& referenced, const ConstraintSets& sets) {
+  ConstrainedSystem sys = constrained_layout(g, rest, mesh_edges, referenced, sets);
+  add_jacobians(sys);
+  return sys;
+}
+
+ConstrainedSystem constrained_layout(const NodeGraph& g, const RowMatrixX3d& rest, const RowMatrixX2i& mesh_edges,
+                                     const std::vector<bool>& referenced, const ConstraintSets& sets) {
   ConstrainedSystem sys;
   const int n = g.n_vertices;
   sys.n_vertices = n;
+  sys.similarity_floor = similarity_floor(g.domain);
   std::vector<Role> role = vertex_roles(n, referenced, sets, sys.warnings);
   int n_components = 0;
   const int pinned = pin_unanchored_components(mesh_edges, role, n_components);
@@ -160,13 +175,17 @@ ConstrainedSystem build_constrained_system(const NodeGraph& g, const RowMatrixX3
       }
       sys.stencil_node_vertices(s, c) = local[static_cast<size_t>(v)];
     }
-  const int nc = sys.n_fixed();
 
-  // Stencil of the active terms, and J1 (arc differences), J2 (Laplacian rows) in local ids.
+  // Stencil of the active terms.
   sys.stencil = build_stencil(g, g.node_positions(rest), sys.term_nodes, stencil_index);
+  sys.rest_scale = sys.stencil.rest_norm.sum();
+  return sys;
+}
+
+void add_jacobians(ConstrainedSystem& sys) {
+  // J1 (arc differences), J2 (Laplacian rows) in local ids.
   const NodeStencil& st = sys.stencil;
-  const int T = st.n_terms, n_arcs = st.n_arcs();
-  sys.rest_scale = st.rest_norm.sum();
+  const int T = st.n_terms, n_arcs = st.n_arcs(), nf = sys.n_free(), nc = sys.n_fixed();
 
   std::vector<Eigen::Triplet<double>> j1, j2;
   j1.reserve(static_cast<size_t>(4 * n_arcs));
@@ -193,7 +212,7 @@ ConstrainedSystem build_constrained_system(const NodeGraph& g, const RowMatrixX3
   sys.J1c = J1.rightCols(nc);
   sys.J2f = J2.leftCols(nf);
   sys.J2c = J2.rightCols(nc);
-  return sys;
+  sys.has_jacobians = true;
 }
 
 std::vector<int> free_vertex_order(const ConstrainedSystem& sys, const std::vector<int>& rank) {
@@ -209,6 +228,7 @@ std::vector<int> free_vertex_order(const ConstrainedSystem& sys, const std::vect
 }
 
 RotationOperator rotation_operator(const ConstrainedSystem& sys) {
+  require_jacobians(sys);
   // H at lambda = 1 (h_R, the 1-form columns) and lambda = 0 (h_T, the Laplacian columns),
   // block (v, t) = sum over t's arcs a of J1f(a,v) w_a e0_a, and J2f(t,v) delta0_t. Gathered
   // term by term (a term touches a handful of vertices), then sorted into rows by counting.
@@ -256,26 +276,39 @@ RotationOperator rotation_operator(const ConstrainedSystem& sys) {
 
 AssembledSystem assemble_system(const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
   AssembledSystem out;
-  const NodeStencil& st = sys.stencil;
-  const int T = st.n_terms, nf = sys.n_free();
   out.H = rotation_operator(sys);
   update_stiffness(out, sys, node_lambda);
   return out;
 }
 
-void update_stiffness(AssembledSystem& out, const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
-  const NodeStencil& st = sys.stencil;
-  const int T = st.n_terms;
+void set_term_stiffness(AssembledSystem& out, const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
+  const int T = sys.n_terms();
   out.term_lambda.resize(T);
   for (int t = 0; t < T; ++t) out.term_lambda(t) = node_lambda(sys.term_nodes[static_cast<size_t>(t)]);
+  out.term_similar = similarity_share(out.term_lambda, sys.similarity_floor);
   out.laplacian_term = (out.term_lambda.array() < 1.0).any();
-  out.H.set_term_lambda(out.term_lambda);
+  out.H.set_term_lambda(out.term_lambda, out.term_similar);
+}
 
+bool assembled_at(const AssembledSystem& as, const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
+  if (as.term_lambda.size() != sys.n_terms()) return false;
+  for (int t = 0; t < sys.n_terms(); ++t)
+    if (as.term_lambda(t) != node_lambda(sys.term_nodes[static_cast<size_t>(t)])) return false;
+  return true;
+}
+
+void update_stiffness(AssembledSystem& out, const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
+  require_jacobians(sys);
+  const NodeStencil& st = sys.stencil;
+  const int T = st.n_terms;
+  set_term_stiffness(out, sys, node_lambda);
+
+  // 1-form arcs weigh lambda_t + phi_t (rigid and similarity shares), the Laplacian 1 - both.
   Eigen::VectorXd w1(st.n_arcs());
   for (int t = 0; t < T; ++t)
     for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a)
-      w1(a) = out.term_lambda(t) * st.weight[static_cast<size_t>(a)];
-  const Eigen::VectorXd w2 = (1.0 - out.term_lambda.array()).matrix();
+      w1(a) = (out.term_lambda(t) + out.term_similar(t)) * st.weight[static_cast<size_t>(a)];
+  const Eigen::VectorXd w2 = (1.0 - out.term_lambda.array() - out.term_similar.array()).matrix();
 
   // The J1 term is kept even when every W1 is 0: its pattern lies inside the J2 term's, so
   // the symbolic analysis survives any change of lambda below 1.

@@ -10,6 +10,7 @@
 #include "edgedeform/errors.h"
 #include "edgedeform/mesh_checks.h"
 #include "edgedeform/stiffness.h"
+#include "edgedeform/system_restriction.h"
 
 namespace edgedeform {
 
@@ -96,12 +97,21 @@ Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, 
 
 void Deformer::set_constraints(const ConstraintSets& sets) {
   std::lock_guard<std::mutex> lock(mutex_);
-  auto system = std::make_unique<ConstrainedSystem>(
-      build_constrained_system(graph_, rest_, topology_.edges, referenced_, sets));
+  // The layout validates the sets before anything changes. Within the base set's free
+  // vertices it is all this set needs; otherwise it becomes the base, with J1 and J2.
+  auto system = std::make_shared<ConstrainedSystem>(constrained_layout(graph_, rest_, topology_.edges, referenced_, sets));
+  const bool within_base = base_system_ && frees_subset(*system, *base_system_);
+  if (!within_base) add_jacobians(*system);
   keep_last_fit_per_node();
   system_ = std::move(system);
+  if (!within_base) make_base(system_);
   assembled_.reset();
   iter_.positions_valid = false;  // the free vertices changed
+}
+
+void Deformer::make_base(std::shared_ptr<const ConstrainedSystem> whole) {
+  base_system_ = std::move(whole);
+  base_assembled_.reset();
 }
 
 void Deformer::keep_last_fit_per_node() {
@@ -159,12 +169,8 @@ void Deformer::set_stiffness(const Eigen::VectorXd& vertex_lambda) {
 void Deformer::ensure_factored(SolveResult& result) {
   if (assembled_ && !stiffness_changed_) return;
   const auto start = Clock::now();
-  // Kept only once factored: after a failure the next call assembles anew.
-  std::unique_ptr<AssembledSystem> assembled = std::move(assembled_);
-  if (assembled)  // only lambda changed: new values in the same operators and pattern
-    update_stiffness(*assembled, *system_, node_lambda_);
-  else
-    assembled = std::make_unique<AssembledSystem>(assemble_system(*system_, node_lambda_));
+  assembled_.reset();  // kept only once factored
+  std::shared_ptr<const AssembledSystem> assembled = current_operators();
   if (system_->n_free() > 0) {
     const std::vector<int> order = free_vertex_order(*system_, vertex_rank_);
     cholesky_.factorize(assembled->A, order);  // throws FactorizationError
@@ -174,6 +180,28 @@ void Deformer::ensure_factored(SolveResult& result) {
   stiffness_changed_ = false;
   iter_.continuable = false;  // a new system: a new map G
   result.factor_ms = ms_since(start);
+}
+
+std::shared_ptr<const AssembledSystem> Deformer::current_operators() {
+  // system_ frees a subset of the base's vertices (set_constraints).
+  if (!restriction_keeps_pattern(*base_system_, *system_, node_lambda_)) {
+    // Lambda = 1 on every term of this set but not of the base: this set becomes the base.
+    auto whole = std::make_shared<ConstrainedSystem>(*system_);
+    add_jacobians(*whole);
+    make_base(std::move(whole));
+  }
+  if (!base_assembled_) {
+    base_assembled_ = std::make_shared<AssembledSystem>(assemble_system(*base_system_, node_lambda_));
+    ++assemblies_;
+  } else if (!assembled_at(*base_assembled_, *base_system_, node_lambda_)) {
+    // Only lambda changed: new values in the same operators. Held apart meanwhile, so that
+    // a failure leaves no half-updated base (the next call assembles anew).
+    std::shared_ptr<AssembledSystem> base = std::move(base_assembled_);
+    update_stiffness(*base, *base_system_, node_lambda_);
+    base_assembled_ = std::move(base);
+  }
+  if (system_->n_free() == base_system_->n_free()) return base_assembled_;  // the same free vertices
+  return std::make_shared<AssembledSystem>(restrict_assembly(*base_assembled_, *base_system_, *system_, node_lambda_));
 }
 
 void Deformer::remember_order() {
@@ -264,7 +292,7 @@ void Deformer::local_step(const Eigen::MatrixXd& y, RowMatrixX3d& x_local, Local
   const auto t0 = Clock::now();
   x_local.topRows(y.rows()) = y;
   stencil_node_positions(*system_, x_local, node_positions_);
-  fit_local(system_->stencil, node_positions_, assembled_->term_lambda, fit);
+  fit_local(system_->stencil, node_positions_, assembled_->term_lambda, fit, assembled_->term_similar);
   result.local_ms += ms_since(t0);
 }
 
@@ -391,7 +419,8 @@ double Deformer::energy(const RowMatrixX3d& X) const {
     full_stencil_ = std::make_unique<NodeStencil>(build_stencil(graph_, graph_.node_positions(rest_), all, all));
   }
   LocalFit fit;
-  fit_local(*full_stencil_, graph_.node_positions(X), node_lambda_, fit);
+  fit_local(*full_stencil_, graph_.node_positions(X), node_lambda_, fit,
+            similarity_share(node_lambda_, similarity_floor(graph_.domain)));
   return fit.energy;
 }
 

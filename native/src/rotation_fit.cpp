@@ -5,6 +5,8 @@
 
 #include <Eigen/Geometry>
 
+#include "edgedeform/lanes.h"
+
 namespace edgedeform {
 
 namespace {
@@ -33,64 +35,96 @@ Eigen::Matrix3d minimal_rotation(const Eigen::Vector3d& u, const Eigen::Vector3d
 
 }  // namespace
 
+int refine_rotation_pair(const Eigen::Matrix3d* const S[2], Eigen::Matrix3d* const R[2]) {
+  // f(w) = trace(exp([w]) N), N = R S, has gradient g = (N12-N21, N20-N02, N01-N10) and
+  // Hessian -(trace(N) I - sym(N)) at w = 0; the Newton step is w = H^-1 g.
+  // Written out (row-major n[3i+j] = N(i,j), r likewise), as this runs for every term in
+  // every iteration: only H's lower triangle, 4 divisions per step, no square root (sizes
+  // compared squared), two terms per instruction.
+  Lanes r[9], s[9], n[9];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      r[3 * i + j] = Lanes{(*R[0])(i, j), (*R[1])(i, j)};
+      s[3 * i + j] = Lanes{(*S[0])(i, j), (*S[1])(i, j)};
+    }
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) n[3 * i + j] = r[3 * i] * s[j] + r[3 * i + 1] * s[3 + j] + r[3 * i + 2] * s[6 + j];
+  LaneMask active = {-1, -1}, converged = {0, 0};
+  for (int step = 0; step < 4 && any(active); ++step) {
+    const Lanes g0 = n[5] - n[7], g1 = n[6] - n[2], g2 = n[1] - n[3];
+    const Lanes tr = n[0] + n[4] + n[8];
+    const Lanes h00 = tr - n[0], h11 = tr - n[4], h22 = tr - n[8];
+    const Lanes h10 = -0.5 * (n[3] + n[1]), h20 = -0.5 * (n[6] + n[2]), h21 = -0.5 * (n[7] + n[5]);
+    const Lanes h_trace = h00 + h11 + h22;
+    // H must be clearly positive definite (a maximum, and not a degenerate S): LDL^T
+    // pivots. A lane that fails stops (its division results below are not used).
+    const Lanes floor = kDegenerateRatio * h_trace;
+    const Lanes d0 = h00;
+    const Lanes inv0 = 1.0 / d0;
+    const Lanes l10 = h10 * inv0, l20 = h20 * inv0;
+    const Lanes d1 = h11 - l10 * h10;
+    const Lanes inv1 = 1.0 / d1;
+    const Lanes l21 = (h21 - l20 * h10) * inv1;
+    const Lanes d2 = h22 - l20 * h20 - l21 * l21 * d1;
+    // solve L D L^T w = g
+    Lanes w0 = g0, w1 = g1 - l10 * g0;
+    Lanes w2 = g2 - l20 * w0 - l21 * w1;
+    w0 *= inv0;
+    w1 *= inv1;
+    w2 /= d2;
+    w1 -= l21 * w2;
+    w0 -= l10 * w1 + l20 * w2;
+    const Lanes size2 = w0 * w0 + w1 * w1 + w2 * w2;
+    LaneMask ok = (d0 > floor) & (d1 > floor) & (d2 > floor);
+    if (step == 0) ok &= size2 <= 0.09;  // |w| > 0.3, far: quadratic convergence not yet there
+    active &= ok;
+    if (!any(active)) break;
+    // Cayley step Q = I + f([c] + c c^T - |c|^2 I), c = w / 2, f = 2 / (1 + |c|^2): a
+    // rotation by ~|w| (to third order), exactly orthogonal.
+    const Lanes cx = 0.5 * w0, cy = 0.5 * w1, cz = 0.5 * w2;
+    const Lanes c2 = cx * cx + cy * cy + cz * cz, f = 2.0 / (1.0 + c2);
+    const Lanes fx = f * cx, fy = f * cy, fz = f * cz, diag = 1.0 - f * c2;
+    const Lanes q[9] = {diag + fx * cx, fx * cy - fz,   fx * cz + fy,    //
+                        fx * cy + fz,   diag + fy * cy, fy * cz - fx,    //
+                        fx * cz - fy,   fy * cz + fx,   diag + fz * cz};
+    Lanes next[9];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) next[3 * i + j] = q[3 * i] * r[j] + q[3 * i + 1] * r[3 + j] + q[3 * i + 2] * r[6 + j];
+    for (int k = 0; k < 9; ++k) r[k] = active ? next[k] : r[k];
+    // Newton's error after a step of size |w| is about kappa |w|^2, kappa = the pivots'
+    // spread h_trace / min(d) (a bound on H's condition): below 1e-12 the rotation is as
+    // exact as the SVD's, so the step that would only confirm it is skipped.
+    const Lanes d01 = d0 < d1 ? d0 : d1, d_min = d01 < d2 ? d01 : d2;
+    const LaneMask done = active & ((size2 < 1e-14) | (h_trace * size2 < 1e-12 * d_min));
+    converged |= done;
+    active &= ~done;
+    if (!any(active)) break;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) next[3 * i + j] = q[3 * i] * n[j] + q[3 * i + 1] * n[3 + j] + q[3 * i + 2] * n[6 + j];
+    for (int k = 0; k < 9; ++k) n[k] = next[k];
+  }
+  int refined = 0;
+  for (int k = 0; k < 2; ++k) {
+    if (!converged[k]) continue;
+    refined |= 1 << k;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) (*R[k])(i, j) = r[3 * i + j][k];
+  }
+  return refined;
+}
+
+bool refine_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& R) {
+  Eigen::Matrix3d copy = R;
+  const Eigen::Matrix3d* const S2[2] = {&S, &S};
+  Eigen::Matrix3d* const R2[2] = {&R, &copy};
+  return refine_rotation_pair(S2, R2) != 0;
+}
+
 // One-sided Jacobi SVD (Hestenes): rotate the columns of A = S V until they are orthogonal,
 // so that S V = U Sigma. With the two largest singular pairs (u1,v1), (u2,v2), the optimal
 // proper rotation is R = v1 u1^T + v2 u2^T + (v1 x v2)(u1 x u2)^T: both U and V are completed
 // to rotations, which is exactly the reflection fix, and it stays defined for rank-2 S (the
 // flat neighbourhoods that are everywhere on a plane).
-bool refine_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& R) {
-  // f(w) = trace(exp([w]) N), N = R S, has gradient g = (N12-N21, N20-N02, N01-N10) and
-  // Hessian -(trace(N) I - sym(N)) at w = 0; the Newton step is w = H^-1 g.
-  Eigen::Matrix3d Rn = R;
-  Eigen::Matrix3d N = Rn * S;
-  for (int step = 0; step < 4; ++step) {
-    const Eigen::Vector3d g(N(1, 2) - N(2, 1), N(2, 0) - N(0, 2), N(0, 1) - N(1, 0));
-    const Eigen::Matrix3d H = N.trace() * Eigen::Matrix3d::Identity() - 0.5 * (N + N.transpose());
-    // H must be clearly positive definite (a maximum, and not a degenerate S): LDL^T pivots.
-    const double floor = kDegenerateRatio * H.trace();
-    const double d0 = H(0, 0);
-    if (!(d0 > floor)) return false;
-    const double l10 = H(1, 0) / d0, l20 = H(2, 0) / d0;
-    const double d1 = H(1, 1) - l10 * H(1, 0);
-    if (!(d1 > floor)) return false;
-    const double l21 = (H(2, 1) - l20 * H(1, 0)) / d1;
-    const double d2 = H(2, 2) - l20 * H(2, 0) - l21 * l21 * d1;
-    if (!(d2 > floor)) return false;
-    Eigen::Vector3d w(g(0), g(1) - l10 * g(0), 0.0);  // solve L D L^T w = g
-    w(2) = g(2) - l20 * w(0) - l21 * w(1);
-    w(0) /= d0;
-    w(1) /= d1;
-    w(2) /= d2;
-    w(1) -= l21 * w(2);
-    w(0) -= l10 * w(1) + l20 * w(2);
-    const double size = w.norm();
-    if (step == 0 && size > 0.3) return false;  // far: quadratic convergence not yet there
-    // Cayley step: a rotation by ~|w| (to third order), exactly orthogonal. With
-    // [c]^2 = c c^T - |c|^2 I it needs no matrix product.
-    const Eigen::Vector3d c = 0.5 * w;
-    const double c2 = c.squaredNorm(), f = 2.0 / (1.0 + c2);
-    Eigen::Matrix3d step_rotation = (f * c) * c.transpose();
-    step_rotation.diagonal().array() += 1.0 - f * c2;
-    step_rotation(0, 1) -= f * c.z();
-    step_rotation(1, 0) += f * c.z();
-    step_rotation(0, 2) += f * c.y();
-    step_rotation(2, 0) -= f * c.y();
-    step_rotation(1, 2) -= f * c.x();
-    step_rotation(2, 1) += f * c.x();
-    Rn = step_rotation * Rn;
-    // Newton's error after a step of size |w| is about kappa |w|^2, kappa = the pivots'
-    // spread (a bound on H's condition): below 1e-12 the rotation is as exact as the SVD's
-    // so the step that would only confirm it is skipped.
-    const double kappa = H.trace() / std::min({d0, d1, d2});
-    if (size < 1e-7 || kappa * size * size < 1e-12) {
-      R = Rn;
-      return true;
-    }
-    N = step_rotation * N;
-  }
-  return false;
-}
-
 RotationFit fit_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V, const Eigen::Matrix3d* near) {
   if (near) {
     RotationFit fit;

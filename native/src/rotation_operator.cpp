@@ -17,6 +17,7 @@ constexpr int kRowsPerChunk = 512;
 
 RotationOperator::RotationOperator(const SparseMatrixRowMajor& H) {
   lambda_.assign(static_cast<size_t>(H.cols() / 6), 1.0);
+  similar_.assign(lambda_.size(), 0.0);
   offsets_.assign(1, 0);
   offsets_.reserve(static_cast<size_t>(H.rows()) + 1);
   term_.reserve(static_cast<size_t>(H.nonZeros() / 3));
@@ -37,7 +38,8 @@ RotationOperator::RotationOperator(const SparseMatrixRowMajor& H) {
 }
 
 RotationOperator::RotationOperator(std::vector<int> offsets, std::vector<int> term, std::vector<double> coef, int terms)
-    : offsets_(std::move(offsets)), term_(std::move(term)), coef_(std::move(coef)), lambda_(static_cast<size_t>(terms), 1.0) {
+    : offsets_(std::move(offsets)), term_(std::move(term)), coef_(std::move(coef)), lambda_(static_cast<size_t>(terms), 1.0),
+      similar_(static_cast<size_t>(terms), 0.0) {
   if (offsets_.empty() || offsets_.front() != 0 || static_cast<size_t>(offsets_.back()) != term_.size() ||
       coef_.size() != 6 * term_.size())
     throw std::invalid_argument("RotationOperator: offsets, terms and coefficients do not agree");
@@ -45,11 +47,46 @@ RotationOperator::RotationOperator(std::vector<int> offsets, std::vector<int> te
     if (t < 0 || t >= terms) throw std::out_of_range("RotationOperator: term " + std::to_string(t) + " out of range");
 }
 
-void RotationOperator::set_term_lambda(const Eigen::VectorXd& term_lambda) {
-  if (term_lambda.size() != static_cast<Eigen::Index>(lambda_.size()))
-    throw std::invalid_argument("term_lambda has " + std::to_string(term_lambda.size()) + " entries, expected " +
+RotationOperator RotationOperator::restricted(const std::vector<int>& rows, const std::vector<int>& term_map,
+                                              int terms) const {
+  if (term_map.size() != lambda_.size())
+    throw std::invalid_argument("term_map has " + std::to_string(term_map.size()) + " entries, expected " +
                                 std::to_string(lambda_.size()) + " (one per term)");
+  std::vector<int> offsets(1, 0), term;
+  std::vector<double> coef;
+  size_t blocks = 0;
+  for (int r : rows) {
+    if (r < 0 || r >= this->rows()) throw std::out_of_range("RotationOperator: row " + std::to_string(r) + " out of range");
+    blocks += static_cast<size_t>(offsets_[static_cast<size_t>(r) + 1] - offsets_[static_cast<size_t>(r)]);
+  }
+  offsets.reserve(rows.size() + 1);
+  term.reserve(blocks);
+  coef.reserve(6 * blocks);
+  for (int r : rows) {
+    const auto begin = static_cast<size_t>(offsets_[static_cast<size_t>(r)]);
+    const auto end = static_cast<size_t>(offsets_[static_cast<size_t>(r) + 1]);
+    for (size_t b = begin; b < end; ++b) {
+      const int t = term_map[static_cast<size_t>(term_[b])];
+      if (t < 0) throw std::invalid_argument("RotationOperator: row " + std::to_string(r) + " uses a dropped term");
+      term.push_back(t);
+    }
+    coef.insert(coef.end(), coef_.begin() + static_cast<long>(6 * begin), coef_.begin() + static_cast<long>(6 * end));
+    offsets.push_back(static_cast<int>(term.size()));
+  }
+  return RotationOperator(std::move(offsets), std::move(term), std::move(coef), terms);
+}
+
+void RotationOperator::set_term_lambda(const Eigen::VectorXd& term_lambda, const Eigen::VectorXd& term_similar) {
+  const auto expected = static_cast<Eigen::Index>(lambda_.size());
+  if (term_lambda.size() != expected || (term_similar.size() != 0 && term_similar.size() != expected))
+    throw std::invalid_argument("term_lambda has " + std::to_string(term_lambda.size()) + " entries and term_similar " +
+                                std::to_string(term_similar.size()) + ", expected " + std::to_string(expected) +
+                                " (one per term)");
   lambda_.assign(term_lambda.data(), term_lambda.data() + term_lambda.size());
+  if (term_similar.size() == 0)
+    similar_.assign(lambda_.size(), 0.0);
+  else
+    similar_.assign(term_similar.data(), term_similar.data() + term_similar.size());
 }
 
 void RotationOperator::apply(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
@@ -62,7 +99,8 @@ void RotationOperator::apply(const std::vector<Eigen::Matrix3d>& rotation, const
       for (int b = offsets_[static_cast<size_t>(r)]; b < offsets_[static_cast<size_t>(r) + 1]; ++b) {
         const int t = term_[static_cast<size_t>(b)];
         const double* h = &coef_[6 * static_cast<size_t>(b)];
-        const double rigid = lambda_[static_cast<size_t>(t)], smooth = (1.0 - rigid) * scale(t);
+        const double lambda = lambda_[static_cast<size_t>(t)], phi = similar_[static_cast<size_t>(t)];
+        const double rigid = lambda + phi * scale(t), smooth = (1.0 - lambda - phi) * scale(t);
         const Eigen::Vector3d g(rigid * h[0] + smooth * h[3], rigid * h[1] + smooth * h[4], rigid * h[2] + smooth * h[5]);
         sum.noalias() += rotation[static_cast<size_t>(t)] * g;
       }

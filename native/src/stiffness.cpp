@@ -23,4 +23,8 @@ Eigen::VectorXd node_stiffness(const NodeGraph& graph, const Eigen::VectorXd& la
   return node;
 }
 
+Eigen::VectorXd similarity_share(const Eigen::VectorXd& lambda, double floor) {
+  return (floor - lambda.array()).max(0.0).matrix();
+}
+
 }  // namespace edgedeform

@@ -1,7 +1,7 @@
 """Screenshots of the Edge Deform sidebar for docs/addon.md (run under Xvfb, see
 docs/addon.md): the bound plane with a handle, a static group and a painted stiffness
-group, at the default sidebar width and dragged narrower, in Object Mode and in Weight
-Paint. Images go to $EDGEDEFORM_TEST_OUT/panel_*.png (whole window; crop for the docs)."""
+group, at the default sidebar width and dragged 60 px narrower. Images go to
+$EDGEDEFORM_TEST_OUT/panel_*.png (whole window; crop for the docs)."""
 
 import os
 import sys
@@ -36,17 +36,35 @@ def steps():
     tap('LEFTMOUSE', at=(ui.x + ui.width - 10, top - 225))
     for _ in range(3):
         yield
-    print("sidebar width (default):", ui.width)
+    default = ui.width
+    print("sidebar width (default):", default)
     screenshot("panel_default.png")
-    # "Narrow": simulated drags of the region edge did not resize the sidebar under Xvfb,
-    # and 3.4 cannot set a region's width from Python. Larger text in the same width
-    # leaves each label the room it would have in a sidebar 13/11 = 1.18 times narrower.
-    style = bpy.context.preferences.ui_styles[0]
-    style.widget.points = style.widget_label.points = style.panel_title.points = 13
+    # Narrow: drag the sidebar's edge (its resize zone starts a few pixels inside the
+    # region: a press at the very edge misses it) 60 px to the right.
+    x, y = ui.x + 6, ui.y + ui.height // 2
+    event('MOUSEMOVE', at=(x, y))
+    yield
+    event('LEFTMOUSE', 'PRESS', at=(x, y))
+    yield
+    for k in range(1, 6):
+        event('MOUSEMOVE', at=(x + 12 * k, y))
+        yield
+    event('LEFTMOUSE', 'RELEASE', at=(x + 60, y))
     for _ in range(5):
         yield
-    print("text 13 pt instead of 11 pt in a sidebar of", sidebar().width, "px")
+    width = sidebar().width
+    assert width < default - 40, "the sidebar did not get narrower (%d px)" % width
+    print("sidebar width (narrow):", width)
     screenshot("panel_narrow.png")
+    # The rest of the panel: scroll the sidebar down.
+    ui = sidebar()
+    at = (ui.x + ui.width // 2, ui.y + ui.height // 2)
+    event('MOUSEMOVE', at=at)
+    yield
+    for _ in range(12):
+        tap('WHEELDOWNMOUSE', at=at)
+        yield
+    screenshot("panel_narrow_lower.png")
 
 
 main(steps)

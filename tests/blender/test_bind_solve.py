@@ -300,7 +300,30 @@ def test_apply_and_unbind():
     assert session.get(ob.data.as_pointer()) is None
 
 
+def test_solve_names_a_graph_rebuild():
+    """After a domain change from the panel (only a setting), the next Solve from the UI
+    builds the new graph in stages it names; closed between them (Esc), the cached graph
+    and the mesh stay as they were."""
+    from edge_deform import lifecycle, session
+    ob, V, F, handle, static, ctrl = plane_setup("plane_domain")
+    assert bpy.ops.edge_deform.bind() == {'FINISHED'}
+    move(ctrl)
+    ob.edge_deform.domain = 'PRIMAL'
+    pointer = ob.data.as_pointer()
+    assert session.get(pointer).domain == 'EDGE', "a domain change alone rebuilds nothing"
+    steps = lifecycle.deform_steps(ob)
+    texts = [next(steps)[1], next(steps)[1]]   # the graph is built after the second
+    assert "building the vertex graph of %d triangles" % len(loop_triangles(ob.data)) \
+        in texts[0] and "factoring" in texts[1], texts
+    steps.close()
+    assert session.get(pointer).domain == 'EDGE' and ob.data.shape_keys is None
+    bound, r, _ = lifecycle._to_end(lifecycle.deform_steps(ob))
+    assert session.get(pointer).domain == 'PRIMAL' and bound.binding.domain == 'PRIMAL'
+    assert ob.data.shape_keys is not None and r.iterations > 0
+
+
 if __name__ == "__main__":
     run([test_solve_matches_api, test_output_mesh_keeps_rest, test_settings_change_rebinds,
          test_stiffness_group, test_quads_and_ngons, test_object_transform_and_warm_start,
-         test_topology_change_never_wrong, test_bad_input_cancels, test_apply_and_unbind])
+         test_topology_change_never_wrong, test_bad_input_cancels, test_apply_and_unbind,
+         test_solve_names_a_graph_rebuild])

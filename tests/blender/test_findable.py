@@ -187,8 +187,66 @@ def test_panel_follows_a_controller_and_swaps_bind():
     assert bpy.context.view_layer.objects.active == ctrl and not ob.select_get()
 
 
+def doc_file(url):
+    """The file a file:// documentation link opens (asserts it is one that exists)."""
+    from urllib.parse import urlparse
+    from urllib.request import url2pathname
+    parts = urlparse(url)
+    assert parts.scheme == "file", url
+    path = url2pathname(parts.path)
+    assert os.path.isfile(path), "the documentation link opens no file: %s" % url
+    return path
+
+
+class _RecordingLayout:
+    """Stands in for a UILayout: records the operators a draw() puts on it."""
+
+    def __init__(self):
+        self.operators = []
+
+    def row(self, **_):
+        return self
+
+    def label(self, **kw):
+        self.operators.append(("label", kw.get("text"), None))
+
+    def operator(self, idname, **kw):
+        class Props:
+            url = None
+        props = Props()
+        self.operators.append((idname, kw.get("text"), props))
+        return props
+
+
+def test_info_links_the_manual():
+    from edge_deform import preferences
+    path = doc_file(preferences.manual_url())
+    # The copy installed with the add-on (the 4.2+ suites install the extension), else,
+    # from a checkout, its docs/addon.md.
+    bundled = os.path.join(os.path.dirname(edge_deform.__file__), "docs", "addon.md")
+    checkout = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
+        os.path.abspath(__file__)))), "docs", "addon.md")
+    expected = bundled if os.path.isfile(bundled) else checkout
+    assert os.path.samefile(path, expected), (path, expected)
+    with open(path, encoding="utf-8") as f:
+        assert f.readline().startswith("# Edge Deform"), path
+    # Preferences > Add-ons > Edge Deform: a Manual button opening it (the only link a
+    # 4.2+ extension has: Blender drops its bl_info) ...
+    cls = preferences.EDGE_DEFORM_AP_preferences
+    assert cls.is_registered and cls.bl_idname == edge_deform.__name__
+    layout = _RecordingLayout()
+    cls.draw(type("Prefs", (), {"layout": layout})(), bpy.context)
+    [(idname, text, props)] = layout.operators
+    assert idname == "wm.url_open" and text == "Manual", layout.operators
+    assert os.path.samefile(doc_file(props.url), path)
+    # ... and the legacy add-on's "Documentation" link (bl_info["doc_url"]) the same page.
+    info = getattr(edge_deform, "bl_info", None)
+    if info is not None:
+        assert os.path.samefile(doc_file(info["doc_url"]), path)
+
+
 if __name__ == "__main__":
-    run([test_menus_hold_the_operators, test_every_operator_and_property_is_described,
+    run([test_info_links_the_manual, test_menus_hold_the_operators, test_every_operator_and_property_is_described,
          test_set_static_takes_vertices_out_of_handles,
          test_stiffness_buttons_follow_weight_paint_masks,
          test_panel_follows_a_controller_and_swaps_bind])

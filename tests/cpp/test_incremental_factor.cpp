@@ -2,10 +2,14 @@
 // removed, a vertex pinned) give the positions a fresh Deformer gives for the same state.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "edgedeform/deformer.h"
+#include "edgedeform/mesh_checks.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;
@@ -53,14 +57,22 @@ std::vector<int> joined(std::vector<int> a, const std::vector<int>& b) {
   return a;
 }
 
-RowMatrixX3d fresh_positions(const Edit& e, Domain domain, double lambda, const ConstraintSets& sets) {
+RowMatrixX3d fresh_positions(const Edit& e, Domain domain, const Eigen::VectorXd& vertex_lambda,
+                             const ConstraintSets& sets) {
   Deformer f(e.mesh.V, e.mesh.F, domain);
-  f.set_stiffness(lambda);
+  f.set_stiffness(vertex_lambda);
   f.set_constraints(sets);
   return five_cold_iterations(f, e.targets(sets.handles)).positions;
 }
 
+RowMatrixX3d fresh_positions(const Edit& e, Domain domain, double lambda, const ConstraintSets& sets) {
+  return fresh_positions(e, domain, Eigen::VectorXd::Constant(e.mesh.V.rows(), lambda), sets);
+}
+
 class IncrementalFactor : public ::testing::TestWithParam<Domain> {};
+
+// Domain, lambda, with a region of interest.
+class RestrictedHandleSets : public ::testing::TestWithParam<std::tuple<Domain, double, bool>> {};
 
 }  // namespace
 
@@ -87,6 +99,7 @@ TEST_P(IncrementalFactor, HandleGroupAddedThenRemovedMatchesAFreshDeformer) {
   const SolveResult removed = five_cold_iterations(d, e.targets(back.handles));
   EXPECT_LT(relative_difference(removed.positions, fresh_positions(e, domain, 0.5, back)), 1e-9);
   EXPECT_EQ(d.factor_nonzeros(), first_fill);
+  EXPECT_EQ(d.assemblies(), 1);  // the belt's operators were sliced from the first set's
   if (std::string(SparseCholesky::backend()) == "cholmod-supernodal") {
     EXPECT_EQ(d.analyses(), 3);
     EXPECT_EQ(d.orderings(), 1);  // the first set's order, reused twice
@@ -138,6 +151,86 @@ TEST_P(IncrementalFactor, FreeingVerticesNeverFreeBeforeMatchesAFreshDeformer) {
   EXPECT_EQ(d.orderings(), 2);
   EXPECT_LT(relative_difference(r.positions, fresh_positions(e, domain, 0.5, fewer)), 1e-9);
 }
+
+TEST_P(IncrementalFactor, RigidRemainderOfAPaintedMeshAssemblesItsOwnSystem) {
+  // Lambda < 1 only just above the static vertices; pinning that band leaves lambda = 1 on
+  // every remaining term. Sliced from the first set, A would keep the Laplacian's pattern:
+  // the set is assembled whole instead.
+  const Domain domain = GetParam();
+  Edit e;
+  const Eigen::VectorXd z = e.mesh.V.col(2);
+  const double zmin = z.minCoeff(), h = z.maxCoeff() - zmin;
+  Eigen::VectorXd lambda = Eigen::VectorXd::Ones(z.size());
+  std::vector<int> band;
+  for (int v = 0; v < z.size(); ++v) {
+    const double f = (z(v) - zmin) / h;
+    if (f >= 0.2 && f < 0.3) lambda(v) = 0.4;
+    if (f >= 0.2 && f < 0.45) band.push_back(v);
+  }
+  Deformer d(e.mesh.V, e.mesh.F, domain);
+  d.set_stiffness(lambda);
+  d.set_constraints({e.high, e.low, std::nullopt});
+  five_cold_iterations(d, e.targets(e.high));
+  const ConstraintSets pinned{e.high, joined(e.low, band), std::nullopt};
+  const ConstrainedSystem layout = constrained_layout(d.graph(), d.rest(), d.topology().edges,
+                                                      referenced_vertices(d.faces(), d.n_vertices()), pinned);
+  for (int i : layout.term_nodes) ASSERT_EQ(d.node_lambda()(i), 1.0) << "the band does not cover lambda < 1";
+  d.set_constraints(pinned);
+  const SolveResult r = five_cold_iterations(d, e.targets(pinned.handles));
+  EXPECT_EQ(d.assemblies(), 2);
+  EXPECT_LT(relative_difference(r.positions, fresh_positions(e, domain, lambda, pinned)), 1e-9);
+}
+
+TEST_P(RestrictedHandleSets, GroupAddedVertexPinnedLambdaChangedGroupRemovedMatchAFreshDeformer) {
+  const auto [domain, lambda, with_roi] = GetParam();
+  Edit e;
+  std::optional<std::vector<int>> roi;
+  if (with_roi) {  // the half with x above the median; the other half stays at rest
+    std::vector<double> x(e.mesh.V.col(0).data(), e.mesh.V.col(0).data() + e.mesh.V.rows());
+    std::nth_element(x.begin(), x.begin() + static_cast<long>(x.size() / 2), x.end());
+    roi.emplace();
+    for (int v = 0; v < e.mesh.V.rows(); ++v)
+      if (e.mesh.V(v, 0) > x[x.size() / 2]) roi->push_back(v);
+  }
+  const double other_lambda = lambda == 1.0 ? 0.6 : 1.0;  // across the Laplacian's pattern
+  Deformer d(e.mesh.V, e.mesh.F, domain);
+  d.set_stiffness(lambda);
+  const ConstraintSets first{e.high, e.low, roi};
+  d.set_constraints(first);
+  five_cold_iterations(d, e.targets(e.high));
+  const ConstraintSets belt{joined(e.high, e.belt), e.low, roi};
+  const ConstraintSets pin{e.high, joined(e.low, {e.belt[e.belt.size() / 2]}), roi};
+  struct Step {
+    const ConstraintSets* sets;
+    double lambda;
+  };
+  for (const Step& step : {Step{&belt, lambda}, Step{&pin, lambda}, Step{&belt, lambda}, Step{&belt, other_lambda},
+                           Step{&first, other_lambda}}) {
+    d.set_stiffness(step.lambda);
+    d.set_constraints(*step.sets);
+    const SolveResult r = five_cold_iterations(d, e.targets(step.sets->handles));
+    const RowMatrixX3d fresh = fresh_positions(e, domain, step.lambda, *step.sets);
+    double moved = 0.0;  // the largest move of a vertex that is not a handle
+    std::vector<bool> handle(static_cast<size_t>(e.mesh.V.rows()), false);
+    for (int v : step.sets->handles) handle[static_cast<size_t>(v)] = true;
+    for (int v = 0; v < e.mesh.V.rows(); ++v)
+      if (!handle[static_cast<size_t>(v)]) moved = std::max(moved, (fresh.row(v) - e.mesh.V.row(v)).norm());
+    EXPECT_GT(moved, 1e-3);
+    EXPECT_LT(relative_difference(r.positions, fresh), 1e-9)
+        << step.sets->handles.size() << " handles, lambda " << step.lambda;
+  }
+  EXPECT_EQ(d.assemblies(), 1);  // every later set was sliced from the first one's operators
+  if (std::string(SparseCholesky::backend()) == "cholmod-supernodal") EXPECT_EQ(d.orderings(), 1);
+}
+
+INSTANTIATE_TEST_SUITE_P(DomainsStiffnessRegion, RestrictedHandleSets,
+                         ::testing::Combine(::testing::Values(Domain::Edge, Domain::Primal), ::testing::Values(0.5, 1.0),
+                                            ::testing::Bool()),
+                         [](const auto& info) {
+                           return std::string(domain_name(std::get<0>(info.param))) +
+                                  (std::get<1>(info.param) == 1.0 ? "_rigid" : "_half") +
+                                  (std::get<2>(info.param) ? "_roi" : "_whole");
+                         });
 
 INSTANTIATE_TEST_SUITE_P(BothDomains, IncrementalFactor, ::testing::Values(Domain::Edge, Domain::Primal),
                          [](const auto& info) { return std::string(domain_name(info.param)); });

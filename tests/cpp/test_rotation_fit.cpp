@@ -121,3 +121,40 @@ TEST(RefineRotation, DeclinesFarStartsAndDegenerateMatrices) {
   Eigen::Matrix3d V = Eigen::Matrix3d::Identity();
   EXPECT_LT((fit_rotation(S, V, &far).R - Eigen::Matrix3d::Identity()).norm(), 1e-12);
 }
+
+TEST(RefineRotation, PairGivesEachLaneTheResultOfItsOwnCall) {
+  // The local step refines two terms at once; each lane must match a single call bit for
+  // bit, also when the other lane declines (far start, degenerate S) or needs more steps.
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g;
+  auto random_case = [&](double angle, bool degenerate, Eigen::Matrix3d& S, Eigen::Matrix3d& R) {
+    for (int k = 0; k < 9; ++k) S.data()[k] = g(rng);
+    if (degenerate) {
+      const Eigen::Vector3d line(g(rng), g(rng), g(rng));
+      S = line * line.transpose();
+    } else {
+      S += 3.0 * Eigen::Matrix3d::Identity();
+    }
+    R = Eigen::AngleAxisd(angle, Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized()) * reference_rotation(S);
+  };
+  const double angles[] = {0.0, 1e-8, 1e-4, 0.05, 0.25, 1.0};
+  int both_refined = 0, one_refined = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    Eigen::Matrix3d S[2], start[2];
+    for (int k = 0; k < 2; ++k) random_case(angles[(trial + 5 * k) % 6], (trial + k) % 11 == 0, S[k], start[k]);
+    Eigen::Matrix3d single[2] = {start[0], start[1]}, pair[2] = {start[0], start[1]};
+    bool refined[2];
+    for (int k = 0; k < 2; ++k) refined[k] = refine_rotation(S[k], single[k]);
+    const Eigen::Matrix3d* const Sp[2] = {&S[0], &S[1]};
+    Eigen::Matrix3d* const Rp[2] = {&pair[0], &pair[1]};
+    const int mask = refine_rotation_pair(Sp, Rp);
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_EQ(((mask >> k) & 1) != 0, refined[k]) << "trial " << trial << " lane " << k;
+      EXPECT_EQ(pair[k], single[k]) << "trial " << trial << " lane " << k;  // bitwise; untouched when declined
+    }
+    both_refined += refined[0] && refined[1];
+    one_refined += refined[0] != refined[1];
+  }
+  EXPECT_GT(both_refined, 50);  // both kinds of pairs occur
+  EXPECT_GT(one_refined, 50);
+}

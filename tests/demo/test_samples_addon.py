@@ -2,7 +2,8 @@
 operators as its README says (Bind at frame 1, Solve at the edit frame). Run in Blender:
     blender -b --factory-startup --python-exit-code 1 --python tests/demo/test_samples_addon.py \
         -- OUT_DIR BUILD_PYTHON_DIR
-Asserts: groups and settings as the scene data says; handles reach their targets; static
+Asserts: the file opens at the edit frame showing the solved deformation; groups and
+settings as the scene data says; handles reach their targets; static
 vertices do not move; other vertices do; the saved .blend reopens with its settings."""
 import os
 import sys
@@ -22,6 +23,12 @@ def read_key(ob):
     key = ob.data.shape_keys.key_blocks[ob.edge_deform.shape_key_name]
     co = np.empty(len(ob.data.vertices) * 3, np.float32)
     key.data.foreach_get("co", co)
+    return co.reshape(-1, 3).astype(np.float64)
+
+
+def positions(ob):
+    co = np.empty(len(ob.data.vertices) * 3, np.float32)
+    ob.data.vertices.foreach_get("co", co)
     return co.reshape(-1, 3).astype(np.float64)
 
 
@@ -51,16 +58,21 @@ def check_scene(scene):
     bpy.context.view_layer.objects.active = ob
     ob.select_set(True)
     sc = bpy.context.scene
+    # It opens where the mesh already shows its deformation: the edit frame, the key shown
+    # in full, handles at the controllers' targets, static vertices at rest.
     assert sc.frame_current == make_samples.EDIT_FRAME
+    key = ob.data.shape_keys.key_blocks.get(s.shape_key_name) if ob.data.shape_keys else None
+    assert key is not None and key.value == 1.0 and not key.mute, "opens without its edit"
+    shown, rest = read_key(ob), positions(ob)
+    assert np.abs(shown[setup["handle_index"]] - setup["targets"]).max() < 1e-3, \
+        "the shown deformation does not reach the controllers"
+    assert np.array_equal(shown[setup["static"]], rest[setup["static"]])
     sc.frame_set(1)
     assert bpy.ops.edge_deform.bind() == {"FINISHED"}
     sc.frame_set(make_samples.EDIT_FRAME)
     s.iterations = 30
     assert bpy.ops.edge_deform.solve() == {"FINISHED"}
     X = read_key(ob)
-    rest = np.empty(len(V) * 3, np.float32)
-    ob.data.vertices.foreach_get("co", rest)
-    rest = rest.reshape(-1, 3).astype(np.float64)
     err = np.abs(X[setup["handle_index"]] - setup["targets"]).max()
     assert err < 1e-4, "handles off their targets by %g" % err
     assert np.abs(X[setup["static"]] - rest[setup["static"]]).max() == 0.0

@@ -36,8 +36,12 @@ struct ConstrainedSystem {
   RowMatrixX2i stencil_node_vertices;  // per stencil node: its (a,b) in local vertex ids
   NodeStencil stencil;               // indices into the stencil-node position array
   double rest_scale = 0.0;           // sum of stencil.rest_norm: the energy's natural size
+  double similarity_floor = 0.0;     // of the graph's domain (stiffness.h)
+  // Only in a system built whole (build_constrained_system, add_jacobians); one whose
+  // operators are restricted from another's (system_restriction.h) goes without.
   SparseMatrix J1f, J1c;             // #arcs x nf, #arcs x nc
   SparseMatrix J2f, J2c;             // #terms x nf, #terms x nc
+  bool has_jacobians = false;
   std::vector<std::string> warnings;
 
   int n_free() const { return static_cast<int>(free_vertices.size()); }
@@ -46,10 +50,20 @@ struct ConstrainedSystem {
 };
 
 // Throws std::invalid_argument / std::out_of_range for bad constraint sets.
+// = constrained_layout, then add_jacobians.
 ConstrainedSystem build_constrained_system(const NodeGraph& graph, const RowMatrixX3d& rest,
                                            const RowMatrixX2i& mesh_edges,
                                            const std::vector<bool>& referenced,
                                            const ConstraintSets& sets);
+
+// Everything but J1, J2: vertex roles, local ids, active terms, stencil, warnings. Throws
+// like build_constrained_system.
+ConstrainedSystem constrained_layout(const NodeGraph& graph, const RowMatrixX3d& rest,
+                                     const RowMatrixX2i& mesh_edges, const std::vector<bool>& referenced,
+                                     const ConstraintSets& sets);
+
+// J1f, J1c, J2f, J2c of a layout.
+void add_jacobians(ConstrainedSystem& system);
 
 // Elimination order of the free vertices (their local ids, 0 .. nf-1) by `rank` (#V, one
 // rank per global vertex, -1 for none); empty when some free vertex has no rank. A subset
@@ -65,18 +79,29 @@ struct AssembledSystem {
                                   // coefficients, weighed by term_lambda
   SparseMatrix K_fixed;           // J1f^T W1 J1c + J2f^T W2 J2c: A's coupling to x_c (nf x nc)
   Eigen::VectorXd term_lambda;    // #terms
+  Eigen::VectorXd term_similar;   // #terms: phi_t, the similarity 1-form share (stiffness.h)
   bool laplacian_term = false;    // some term has lambda < 1
 };
 
 AssembledSystem assemble_system(const ConstrainedSystem& system, const Eigen::VectorXd& node_lambda);
 
 // The right-hand-side operator of `system` (lambda-free; every term's lambda is 1).
+// assemble_system, rotation_operator and update_stiffness need the system's J1, J2 (else
+// std::logic_error).
 RotationOperator rotation_operator(const ConstrainedSystem& system);
 
 // The same system at other stiffness: A, K_fixed and the operator's per-term lambda are
 // replaced; H's coefficients and the pattern of A (for lambda < 1 somewhere) stay.
 void update_stiffness(AssembledSystem& assembled, const ConstrainedSystem& system,
                       const Eigen::VectorXd& node_lambda);
+
+// term_lambda, laplacian_term and the operator's per-term lambda from node_lambda (#nodes).
+void set_term_stiffness(AssembledSystem& assembled, const ConstrainedSystem& system,
+                        const Eigen::VectorXd& node_lambda);
+
+// Whether `assembled` (of `system`) holds node_lambda's stiffness on every term.
+bool assembled_at(const AssembledSystem& assembled, const ConstrainedSystem& system,
+                  const Eigen::VectorXd& node_lambda);
 
 
 }  // namespace edgedeform

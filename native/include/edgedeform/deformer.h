@@ -17,6 +17,7 @@
 #include "edgedeform/node_graph.h"
 #include "edgedeform/seams.h"
 #include "edgedeform/sparse_cholesky.h"
+#include "edgedeform/stiffness.h"
 
 namespace edgedeform {
 
@@ -88,10 +89,17 @@ class Deformer {
   const Eigen::VectorXd& vertex_lambda() const { return vertex_lambda_; }
   int analyses() const { return cholesky_.analyses(); }
   int orderings() const { return cholesky_.orderings(); }
+  // How many constraint sets were assembled whole (sparse products); a set restricted from
+  // the base set's operators does not count (tests check reuse).
+  int assemblies() const { return assemblies_; }
   double factor_nonzeros() const { return cholesky_.factor_nonzeros(); }
 
  private:
   void ensure_factored(SolveResult& result);
+  // The operators of system_ at node_lambda_: the base set's, or restricted from them.
+  std::shared_ptr<const AssembledSystem> current_operators();
+  // system_ with J1, J2 becomes the base set; its operators are assembled on first use.
+  void make_base(std::shared_ptr<const ConstrainedSystem> whole);
   // Keeps the elimination order CHOLMOD chose for the current free vertices.
   void remember_order();
   // Rotations, scales and SVD frames the first global step starts from (see SolveOptions).
@@ -117,9 +125,16 @@ class Deformer {
   double seam_tolerance_ = 0.0;  // 1e-6 of the bounding-box diagonal: a visible gap
   Eigen::VectorXd vertex_lambda_;
   Eigen::VectorXd node_lambda_;
-  std::unique_ptr<ConstrainedSystem> system_;
-  std::unique_ptr<AssembledSystem> assembled_;  // null when the constraints changed
+  std::shared_ptr<const ConstrainedSystem> system_;
+  std::shared_ptr<const AssembledSystem> assembled_;  // null when the constraints changed
   bool stiffness_changed_ = false;              // assembled_ holds another lambda
+  // The base set: the last constraint set built whole (with J1, J2), and its operators once
+  // assembled, kept at node_lambda_. A set freeing only vertices the base frees (a handle
+  // group added, a vertex pinned, the group released) is built as a layout and takes its
+  // operators from the base's (system_restriction.h) instead of assembling its own.
+  std::shared_ptr<const ConstrainedSystem> base_system_;
+  std::shared_ptr<AssembledSystem> base_assembled_;
+  int assemblies_ = 0;
   // Elimination rank per vertex (-1: never free) from the last fill-reducing ordering;
   // constraint sets freeing only ranked vertices reuse it (free_vertex_order).
   std::vector<int> vertex_rank_;

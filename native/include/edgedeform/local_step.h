@@ -51,9 +51,11 @@ constexpr double kMinScale = 0.25;
 constexpr double kMaxScale = 4.0;
 
 // Fits R_i, s_i to `node_positions` for every term (in parallel) and evaluates the energy
-// with term stiffness `term_lambda` (#terms). When `fit` already holds one rotation per
-// term (the previous iteration's), each fit starts from it.
+// with term stiffness `term_lambda` (#terms) and similarity shares `term_similar` (#terms,
+// or empty for none; stiffness.h). When `fit` already holds one rotation per term (the
+// previous iteration's), each fit starts from it.
 void fit_local(const NodeStencil& stencil, const RowMatrixX3d& node_positions,
-               const Eigen::VectorXd& term_lambda, LocalFit& fit);
+               const Eigen::VectorXd& term_lambda, LocalFit& fit,
+               const Eigen::VectorXd& term_similar = {});
 
 }  // namespace edgedeform

@@ -27,6 +27,11 @@ RotationFit fit_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& V, const Eig
 // false, leaving R as it was, when the start is far or the optimum is not well defined.
 bool refine_rotation(const Eigen::Matrix3d& S, Eigen::Matrix3d& R);
 
+// refine_rotation for two terms at once, in the two lanes of a SIMD register, with the same
+// arithmetic (and results) per lane as two separate calls. Bit k of the result is set when
+// R[k] was refined; the other R[k] are left as they were.
+int refine_rotation_pair(const Eigen::Matrix3d* const S[2], Eigen::Matrix3d* const R[2]);
+
 // For a degenerate fit: among the rotations with R u1 = v1, the one maximizing
 // trace(R tie_breaker) (the minimal rotation u1 -> v1 when the tie-breaker does not decide).
 Eigen::Matrix3d rotation_about_axis(const Eigen::Vector3d& u1, const Eigen::Vector3d& v1,

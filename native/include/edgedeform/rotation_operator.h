@@ -1,7 +1,9 @@
 // The constant sparse operator that maps the local step's rotations and scales to the right
 // side of the global step. Its blocks pair a free vertex v with a term t whose energy
 // touches v, and hold six numbers (h_R, h_T) that do not depend on the stiffness, so that
-//     rhs_v = c_v + sum_blocks R_t (lambda_t h_R + (1 - lambda_t) s_t h_T).
+//     rhs_v = c_v + sum_blocks R_t ((lambda_t + phi_t s_t) h_R + (1 - lambda_t - phi_t) s_t h_T),
+// phi_t the term's share of the similarity 1-form term (stiffness.h; 0 but in the primal
+// domain at lambda below its floor).
 // This is H Z of constrained_system.h with H's six columns per term folded into one block:
 // one product per iteration, and no stacked Z to build; a change of lambda only replaces the
 // per-term lambda_t.
@@ -24,8 +26,15 @@ class RotationOperator {
   // term and six coefficients (h_R, h_T); `terms` = #terms.
   RotationOperator(std::vector<int> offsets, std::vector<int> term, std::vector<double> coef, int terms);
 
-  // lambda_t of every term (#terms); throws std::invalid_argument on a size mismatch.
-  void set_term_lambda(const Eigen::VectorXd& term_lambda);
+  // The operator of a subset of the rows (rows[k] becomes row k) with terms renumbered:
+  // term t becomes term_map[t] (#terms entries; -1 for a term the subset drops, which none
+  // of the kept rows may use: std::invalid_argument), of `terms` in all. term_map must keep
+  // the terms' order, so that each row's blocks still ascend. Every lambda_t starts at 1.
+  RotationOperator restricted(const std::vector<int>& rows, const std::vector<int>& term_map, int terms) const;
+
+  // lambda_t of every term (#terms), and phi_t (#terms, or empty for none); throws
+  // std::invalid_argument on a size mismatch.
+  void set_term_lambda(const Eigen::VectorXd& term_lambda, const Eigen::VectorXd& term_similar = {});
 
   // y = c + (the operator applied to R, s); rows in parallel. c and y are (rows x 3).
   void apply(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
@@ -40,6 +49,7 @@ class RotationOperator {
   std::vector<int> term_;        // per block
   std::vector<double> coef_;     // per block: h_R (3), then h_T (3)
   std::vector<double> lambda_;   // per term
+  std::vector<double> similar_;  // per term, phi_t
 };
 
 }  // namespace edgedeform
