@@ -14,7 +14,9 @@ EDITS = {"lift": lambda V: lift(V, amount=0.15),
          "bend": lambda V: bend(V, degrees=30.0)}
 MODERATE = {"lift": lambda V: lift(V, amount=0.05),
             "bend": lambda V: bend(V, degrees=15.0)}
-BUDGET = 400
+# 400 until the distance estimate kept 32 secant ratios (docs/deviations.md item 8): the
+# primal dinosaur at lambda = 0 now proves its 1e-3 in 346 (lift) and 510 (bend) iterations.
+BUDGET = 1000
 
 
 @pytest.mark.parametrize("acceleration", ["none", "anderson"])
