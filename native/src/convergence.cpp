@@ -43,8 +43,9 @@ double ConvergenceMonitor::rate() const {
 double ConvergenceMonitor::distance(double residual) const {
   if (residual <= kRoundoff) return residual;
   const double rho = rate();
-  if (!(rho < 1.0)) return std::numeric_limits<double>::infinity();  // not (yet) seen to contract
-  return residual * rho / (1.0 - rho);
+  if (rho < 1.0) return residual * rho / (1.0 - rho);
+  if (residual <= kNoiseFloor) return residual * kSlowestRate / (1.0 - kSlowestRate);  // ratios of noise
+  return std::numeric_limits<double>::infinity();  // not (yet) seen to contract
 }
 
 }  // namespace edgedeform

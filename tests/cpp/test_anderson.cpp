@@ -120,6 +120,26 @@ TEST(ConvergenceMonitor, EstimateBoundsTheTrueDistanceOfAPlainIteration) {
   EXPECT_GT(checked, 300);
 }
 
+TEST(ConvergenceMonitor, AtTheNoiseFloorTheSlowestRateIsAssumed) {
+  // Secant ratios >= 1 (noise at a residual floor): no rate. Above the noise floor nothing
+  // is claimed; at it, the residual counts with the slowest contraction ever measured, so
+  // a 1e-8 residual is at most ~1e-4 away, and a tight tolerance still needs a real rate.
+  ConvergenceMonitor monitor;
+  monitor.resize(1);
+  Eigen::MatrixXd y = Eigen::MatrixXd::Zero(1, 3), g = Eigen::MatrixXd::Zero(1, 3);
+  for (int k = 0; k < 2 * ConvergenceMonitor::kMinRatios; ++k) {
+    y(0, 0) = (k % 2 ? 1.0 : -1.0) * 1e-9;  // steps of 2e-9 ...
+    g(0, 0) = (k % 2 ? -1.0 : 1.0) * 3e-9;  // ... mapped to steps of 6e-9: ratio 3
+    monitor.add(y, g, true);
+  }
+  EXPECT_GE(monitor.rate(), 1.0);
+  EXPECT_FALSE(std::isfinite(monitor.distance(1e-6)));
+  const double slow = ConvergenceMonitor::kSlowestRate / (1.0 - ConvergenceMonitor::kSlowestRate);
+  EXPECT_DOUBLE_EQ(monitor.distance(1e-8), 1e-8 * slow);
+  EXPECT_LT(monitor.distance(ConvergenceMonitor::kNoiseFloor), 1e-3 + 1e-12);
+  EXPECT_GT(monitor.distance(1e-8), 1e-8);  // never the residual alone
+}
+
 TEST(ConvergenceMonitor, NothingIsClaimedBeforeTheRateIsSeen) {
   ConvergenceMonitor monitor;
   monitor.resize(2);

@@ -36,6 +36,14 @@ class ConvergenceMonitor {
   // 2e-10 at the dino's rigidly moved rest shape, primal, lambda 0, where L^T L squares the
   // conditioning; elsewhere 1e-15..1e-12).
   static constexpr double kRoundoff = 1e-9;
+  // Below this residual the secant ratios can be ratios of noise: the accelerated iteration
+  // at lambda < 1 sits at a floor of 2e-8..6e-8 on the head sample (edge) and the 50k koala
+  // lift, where they came out >= 1 and the solve never claimed convergence although its
+  // residual stayed near 1e-8 from iteration 200 on. There, when the ratios give no rate,
+  // the estimate assumes the slowest contraction ever measured with margin, kSlowestRate
+  // (the koala's smooth mode: 0.998-0.999), so 1e-7 counts as at most 1e-3 diag away.
+  static constexpr double kNoiseFloor = 1e-7;
+  static constexpr double kSlowestRate = 0.9999;
 
   void resize(Eigen::Index rows);  // allocates the two copies; forgets everything
   void reset() { has_last_ = false; count_ = 0; next_ = 0; }
