@@ -199,11 +199,7 @@ class StepsJob:
         return {'RUNNING_MODAL'}
 
     def _job_header(self, text):
-        try:
-            if self.job_area is not None:
-                self.job_area.header_text_set(text)
-        except ReferenceError:
-            pass
+        set_header(self.job_area, text)
 
     def stop_job(self, context):
         context.window_manager.event_timer_remove(self.job_timer)
@@ -212,6 +208,16 @@ class StepsJob:
 
     def cancel(self, context):   # the window closes or a file loads
         self.stop_job(context)
+
+
+def set_header(area, text):
+    """The area's header text (None: Blender's own); nothing if there is no area or the
+    user closed it meanwhile."""
+    try:
+        if area is not None:
+            area.header_text_set(text)
+    except ReferenceError:
+        pass
 
 
 def report_lines(op, lines):
@@ -286,11 +292,7 @@ class ModalTool:
 
     def header(self, text):
         self.header_text = text   # (what the window tests read back)
-        try:
-            if self.area is not None:
-                self.area.header_text_set(text)
-        except ReferenceError:
-            pass
+        set_header(self.area, text)
 
     def hold_undo_steps(self, context):
         """One undo step per session: while the tool runs, the G/R/S moves inside it push
