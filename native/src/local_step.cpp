@@ -140,7 +140,7 @@ double finish_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, 
     for (int a = c.begin; a < c.end; ++a) {
       const Eigen::Vector3d e = c.self - p.row(st.neighbour[static_cast<size_t>(a)]).transpose();
       const Eigen::Vector3d Re0 = R * st.rest_edge.row(a).transpose();
-      rigid += st.weight[static_cast<size_t>(a)] * (e - Re0).squaredNorm();
+      if (lambda > 0.0) rigid += st.weight[static_cast<size_t>(a)] * (e - Re0).squaredNorm();
       if (similar > 0.0) similarity += st.weight[static_cast<size_t>(a)] * (e - s * Re0).squaredNorm();
     }
   }
