@@ -172,9 +172,18 @@ void Deformer::ensure_factored(SolveResult& result) {
   assembled_.reset();  // kept only once factored
   std::shared_ptr<const AssembledSystem> assembled = current_operators();
   if (system_->n_free() > 0) {
-    const std::vector<int> order = free_vertex_order(*system_, vertex_rank_);
-    cholesky_.factorize(assembled->A, order);  // throws FactorizationError
-    if (order.empty()) remember_order();
+    const bool laplacian_pattern = assembled->laplacian_term;  // A's pattern (update_stiffness)
+    const bool rank_fits = !vertex_rank_.empty() && rank_laplacian_pattern_ == laplacian_pattern;
+    const std::vector<int> order = rank_fits ? free_vertex_order(*system_, vertex_rank_) : std::vector<int>{};
+    if (!order.empty()) {
+      cholesky_.factorize(assembled->A, order);  // throws FactorizationError
+    } else {
+      // Lambda moved to or from 1 everywhere (the kept order is the other pattern's): a
+      // quick order, as this is the live slider; otherwise the least fill, once per mesh.
+      const bool crossing = !vertex_rank_.empty() && !rank_fits;
+      cholesky_.factorize(assembled->A, crossing ? Ordering::Quick : Ordering::LeastFill);
+      remember_order(laplacian_pattern);
+    }
   }
   assembled_ = std::move(assembled);
   stiffness_changed_ = false;
@@ -204,8 +213,9 @@ std::shared_ptr<const AssembledSystem> Deformer::current_operators() {
   return std::make_shared<AssembledSystem>(restrict_assembly(*base_assembled_, *base_system_, *system_, node_lambda_));
 }
 
-void Deformer::remember_order() {
+void Deformer::remember_order(bool laplacian_pattern) {
   const std::vector<int> order = cholesky_.order();
+  rank_laplacian_pattern_ = laplacian_pattern;
   vertex_rank_.assign(static_cast<size_t>(n_vertices()), -1);
   for (size_t k = 0; k < order.size(); ++k)
     vertex_rank_[static_cast<size_t>(system_->free_vertices[static_cast<size_t>(order[k])])] = static_cast<int>(k);

@@ -62,6 +62,10 @@ struct SparseCholesky::Impl {
     common.method[0].ordering = CHOLMOD_AMD;
     common.method[1].ordering = CHOLMOD_METIS;
   }
+  void quick_ordering() {
+    common.nmethods = 1;
+    common.method[0].ordering = CHOLMOD_AMD;
+  }
   void given_ordering() {
     common.nmethods = 1;
     common.method[0].ordering = CHOLMOD_GIVEN;
@@ -96,9 +100,13 @@ struct SparseCholesky::Impl {
 SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
 SparseCholesky::~SparseCholesky() = default;
 
-void SparseCholesky::factorize(const SparseMatrix& A) { factorize(A, {}); }
+void SparseCholesky::factorize(const SparseMatrix& A, Ordering ordering) { factorize(A, {}, ordering); }
 
 void SparseCholesky::factorize(const SparseMatrix& A, const std::vector<int>& order) {
+  factorize(A, order, Ordering::LeastFill);
+}
+
+void SparseCholesky::factorize(const SparseMatrix& A, const std::vector<int>& order, Ordering ordering) {
   Impl& m = *impl_;
   m.factored = false;
   cholmod_sparse view = Impl::view(A);
@@ -106,7 +114,9 @@ void SparseCholesky::factorize(const SparseMatrix& A, const std::vector<int>& or
     cholmod_free_factor(&m.factor, &m.common);
     m.pattern = Pattern{};
     if (order.empty()) {
+      if (ordering == Ordering::Quick) m.quick_ordering();
       m.factor = cholmod_analyze(&view, &m.common);
+      m.least_fill_orderings();
       ++m.orderings;
     } else {
       if (order.size() != static_cast<size_t>(A.cols())) throw std::invalid_argument("elimination order has the wrong size");
@@ -171,9 +181,11 @@ SparseCholesky::~SparseCholesky() = default;
 
 void SparseCholesky::factorize(const SparseMatrix& A, const std::vector<int>&) { factorize(A); }
 
+void SparseCholesky::factorize(const SparseMatrix& A, const std::vector<int>&, Ordering) { factorize(A); }
+
 std::vector<int> SparseCholesky::order() const { return {}; }
 
-void SparseCholesky::factorize(const SparseMatrix& A) {
+void SparseCholesky::factorize(const SparseMatrix& A, Ordering) {
   Impl& m = *impl_;
   m.factored = false;
   if (!m.analyzed || !m.pattern.matches(A)) {
