@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "edgedeform/errors.h"
 #include "edgedeform/mesh_checks.h"
@@ -172,23 +173,39 @@ void Deformer::ensure_factored(SolveResult& result) {
   assembled_.reset();  // kept only once factored
   std::shared_ptr<const AssembledSystem> assembled = current_operators();
   if (system_->n_free() > 0) {
-    const bool laplacian_pattern = assembled->laplacian_term;  // A's pattern (update_stiffness)
-    const bool rank_fits = !vertex_rank_.empty() && rank_laplacian_pattern_ == laplacian_pattern;
-    const std::vector<int> order = rank_fits ? free_vertex_order(*system_, vertex_rank_) : std::vector<int>{};
-    if (!order.empty()) {
-      cholesky_.factorize(assembled->A, order);  // throws FactorizationError
-    } else {
-      // Lambda moved to or from 1 everywhere (the kept order is the other pattern's): a
-      // quick order, as this is the live slider; otherwise the least fill, once per mesh.
-      const bool crossing = !vertex_rank_.empty() && !rank_fits;
-      cholesky_.factorize(assembled->A, crossing ? Ordering::Quick : Ordering::LeastFill);
-      remember_order(laplacian_pattern);
+    const bool base_set = assembled == base_assembled_;
+    if (base_set && spare_tag_ == base_values_) swap_factors();  // a group released again
+    if (!(base_set && cholesky_tag_ == base_values_)) {
+      if (!base_set && cholesky_tag_ == base_values_) swap_factors();  // keep the base's aside
+      cholesky_tag_ = -1;  // until factored
+      factorize(*assembled);  // throws FactorizationError
+      cholesky_tag_ = base_set ? base_values_ : -1;
     }
   }
   assembled_ = std::move(assembled);
   stiffness_changed_ = false;
   iter_.continuable = false;  // a new system: a new map G
   result.factor_ms = ms_since(start);
+}
+
+void Deformer::factorize(const AssembledSystem& assembled) {
+  const bool laplacian_pattern = assembled.laplacian_term;  // A's pattern (update_stiffness)
+  const bool rank_fits = !vertex_rank_.empty() && rank_laplacian_pattern_ == laplacian_pattern;
+  const std::vector<int> order = rank_fits ? free_vertex_order(*system_, vertex_rank_) : std::vector<int>{};
+  if (!order.empty()) {
+    cholesky_.factorize(assembled.A, order);
+    return;
+  }
+  // Lambda moved to or from 1 everywhere (the kept order is the other pattern's): a quick
+  // order, as this is the live slider; otherwise the least fill, once per mesh.
+  const bool crossing = !vertex_rank_.empty() && !rank_fits;
+  cholesky_.factorize(assembled.A, crossing ? Ordering::Quick : Ordering::LeastFill);
+  remember_order(laplacian_pattern);
+}
+
+void Deformer::swap_factors() {
+  cholesky_.swap(spare_cholesky_);
+  std::swap(cholesky_tag_, spare_tag_);
 }
 
 std::shared_ptr<const AssembledSystem> Deformer::current_operators() {
@@ -200,11 +217,13 @@ std::shared_ptr<const AssembledSystem> Deformer::current_operators() {
     make_base(std::move(whole));
   }
   if (!base_assembled_) {
+    ++base_values_;
     base_assembled_ = std::make_shared<AssembledSystem>(assemble_system(*base_system_, node_lambda_));
     ++assemblies_;
   } else if (!assembled_at(*base_assembled_, *base_system_, node_lambda_)) {
     // Only lambda changed: new values in the same operators. Held apart meanwhile, so that
     // a failure leaves no half-updated base (the next call assembles anew).
+    ++base_values_;
     std::shared_ptr<AssembledSystem> base = std::move(base_assembled_);
     update_stiffness(*base, *base_system_, node_lambda_);
     base_assembled_ = std::move(base);

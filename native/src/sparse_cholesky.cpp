@@ -47,6 +47,7 @@ struct SparseCholesky::Impl {
   bool factored = false;
   int analyses = 0;
   int orderings = 0;
+  int factorizations = 0;
 
   Impl() {
     cholmod_start(&common);
@@ -128,6 +129,7 @@ void SparseCholesky::factorize(const SparseMatrix& A, const std::vector<int>& or
     m.pattern.remember(A);
     ++m.analyses;
   }
+  ++m.factorizations;
   const int ok = cholmod_factorize(&view, m.factor, &m.common);
   if (!ok || m.common.status == CHOLMOD_NOT_POSDEF || m.factor->minor < m.factor->n)
     throw FactorizationError(
@@ -163,6 +165,7 @@ std::vector<int> SparseCholesky::order() const {
 bool SparseCholesky::factored() const { return impl_->factored; }
 int SparseCholesky::analyses() const { return impl_->analyses; }
 int SparseCholesky::orderings() const { return impl_->orderings; }
+int SparseCholesky::factorizations() const { return impl_->factorizations; }
 double SparseCholesky::factor_nonzeros() const { return impl_->factor ? impl_->common.lnz : 0.0; }
 const char* SparseCholesky::backend() { return "cholmod-supernodal"; }
 
@@ -174,6 +177,7 @@ struct SparseCholesky::Impl {
   bool analyzed = false;
   bool factored = false;
   int analyses = 0;
+  int factorizations = 0;
 };
 
 SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
@@ -194,6 +198,7 @@ void SparseCholesky::factorize(const SparseMatrix& A, Ordering) {
     m.analyzed = true;
     ++m.analyses;
   }
+  ++m.factorizations;
   m.ldlt.factorize(A);
   if (m.ldlt.info() != Eigen::Success || (m.ldlt.vectorD().array() <= 0.0).any())
     throw FactorizationError("the deformation matrix is not positive definite: a free region without "
@@ -209,6 +214,7 @@ void SparseCholesky::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) {
 bool SparseCholesky::factored() const { return impl_->factored; }
 int SparseCholesky::analyses() const { return impl_->analyses; }
 int SparseCholesky::orderings() const { return impl_->analyses; }
+int SparseCholesky::factorizations() const { return impl_->factorizations; }
 double SparseCholesky::factor_nonzeros() const {
   return impl_->factored ? static_cast<double>(impl_->ldlt.matrixL().nestedExpression().nonZeros()) : 0.0;
 }

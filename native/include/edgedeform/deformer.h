@@ -87,8 +87,9 @@ class Deformer {
   const NodeGraph& graph() const { return graph_; }
   const Eigen::VectorXd& node_lambda() const { return node_lambda_; }
   const Eigen::VectorXd& vertex_lambda() const { return vertex_lambda_; }
-  int analyses() const { return cholesky_.analyses(); }
-  int orderings() const { return cholesky_.orderings(); }
+  int analyses() const { return cholesky_.analyses() + spare_cholesky_.analyses(); }
+  int orderings() const { return cholesky_.orderings() + spare_cholesky_.orderings(); }
+  int factorizations() const { return cholesky_.factorizations() + spare_cholesky_.factorizations(); }
   // How many constraint sets were assembled whole (sparse products); a set restricted from
   // the base set's operators does not count (tests check reuse).
   int assemblies() const { return assemblies_; }
@@ -100,6 +101,9 @@ class Deformer {
   std::shared_ptr<const AssembledSystem> current_operators();
   // system_ with J1, J2 becomes the base set; its operators are assembled on first use.
   void make_base(std::shared_ptr<const ConstrainedSystem> whole);
+  // Factors A of the current set into cholesky_ (ordering as vertex_rank_ allows).
+  void factorize(const AssembledSystem& assembled);
+  void swap_factors();
   // Keeps the elimination order CHOLMOD chose for the current free vertices and pattern.
   void remember_order(bool laplacian_pattern);
   // Rotations, scales and SVD frames the first global step starts from (see SolveOptions).
@@ -144,6 +148,14 @@ class Deformer {
   std::vector<int> vertex_rank_;
   bool rank_laplacian_pattern_ = false;
   SparseCholesky cholesky_;
+  // A second factorization, swapped with cholesky_: while a part of the base set is factored
+  // (a handle group pinned), it keeps the base set's, so that releasing the group costs no
+  // factorization, and pinning the same group again finds its analysis there. A factor is
+  // the base's while its tag equals base_values_, which counts every new value of the base's
+  // operators (an assembly, a lambda change); -1 for a part's factor.
+  SparseCholesky spare_cholesky_;
+  long cholesky_tag_ = -1, spare_tag_ = -1;
+  long base_values_ = 0;
   // Warm start. The fit of the last result, per term of the current system (live editing
   // reuses it as it is), and per global node once the constraints change.
   LocalFit last_fit_;

@@ -38,9 +38,13 @@ class SparseCholesky {
   // Solves A X = B for a factored A. B and X are (n x k), column-major.
   void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X);
 
+  // Exchanges the factorizations (and their counts) of two solvers.
+  void swap(SparseCholesky& other) noexcept { impl_.swap(other.impl_); }
+
   bool factored() const;
   int analyses() const;   // how many symbolic analyses so far (tests check reuse)
   int orderings() const;  // how many of them computed a fill-reducing order
+  int factorizations() const;  // how many numeric factorizations so far
   double factor_nonzeros() const;  // entries of L from the last analysis (0 before any)
   static const char* backend();
 
