@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "edgedeform/errors.h"
+#include "edgedeform/serial_openmp.h"
 
 #ifdef EDGEDEFORM_HAS_CHOLMOD
 #include <cholmod.h>
@@ -108,6 +109,7 @@ void SparseCholesky::factorize(const SparseMatrix& A, const std::vector<int>& or
 }
 
 void SparseCholesky::factorize(const SparseMatrix& A, const std::vector<int>& order, Ordering ordering) {
+  const SerialOpenMP serial;  // CHOLMOD's fixed team of 4 (serial_openmp.h)
   Impl& m = *impl_;
   m.factored = false;
   cholmod_sparse view = Impl::view(A);
