@@ -310,7 +310,7 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
 
 void Deformer::global_step(const LocalFit& fit, const Eigen::MatrixXd& c, Eigen::MatrixXd& g, SolveResult& result) {
   auto t0 = Clock::now();
-  assembled_->H.apply(fit.rotation, fit.scale, c, rhs_);
+  assembled_->H.apply(fit.rotation, fit.scale, c, rhs_, rhs_term_weights_);
   result.rhs_ms += ms_since(t0);
   t0 = Clock::now();
   cholesky_.solve(rhs_, g);

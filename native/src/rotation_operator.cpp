@@ -90,19 +90,28 @@ void RotationOperator::set_term_lambda(const Eigen::VectorXd& term_lambda, const
 }
 
 void RotationOperator::apply(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
-                             const Eigen::MatrixXd& c, Eigen::MatrixXd& y) const {
+                             const Eigen::MatrixXd& c, Eigen::MatrixXd& y, std::vector<double>& term_weights) const {
+  // Each term's two weights first, side by side: a block then gathers one cache line for
+  // them instead of three (lambda, phi, s), which made the row loop ~20 % slower (koala).
+  const size_t T = lambda_.size();
+  term_weights.resize(2 * T);
+  for (size_t t = 0; t < T; ++t) {
+    const double s = scale(static_cast<Eigen::Index>(t));
+    term_weights[2 * t] = lambda_[t] + similar_[t] * s;                  // on h_R
+    term_weights[2 * t + 1] = (1.0 - lambda_[t] - similar_[t]) * s;      // on h_T
+  }
+  const double* weight = term_weights.data();
   const int n = rows();
   y.resize(n, 3);
   parallel_for(n, kRowsPerChunk, kMinParallelRows, [&](int begin, int end) {
     for (int r = begin; r < end; ++r) {
       Eigen::Vector3d sum = c.row(r).transpose();
       for (int b = offsets_[static_cast<size_t>(r)]; b < offsets_[static_cast<size_t>(r) + 1]; ++b) {
-        const int t = term_[static_cast<size_t>(b)];
+        const auto t = static_cast<size_t>(term_[static_cast<size_t>(b)]);
         const double* h = &coef_[6 * static_cast<size_t>(b)];
-        const double lambda = lambda_[static_cast<size_t>(t)], phi = similar_[static_cast<size_t>(t)];
-        const double rigid = lambda + phi * scale(t), smooth = (1.0 - lambda - phi) * scale(t);
+        const double rigid = weight[2 * t], smooth = weight[2 * t + 1];
         const Eigen::Vector3d g(rigid * h[0] + smooth * h[3], rigid * h[1] + smooth * h[4], rigid * h[2] + smooth * h[5]);
-        sum.noalias() += rotation[static_cast<size_t>(t)] * g;
+        sum.noalias() += rotation[t] * g;
       }
       y.row(r) = sum.transpose();
     }

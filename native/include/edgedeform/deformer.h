@@ -182,6 +182,7 @@ class Deformer {
   } iter_;
   double diag_ = 0.0;             // rest bounding-box diagonal
   Eigen::MatrixXd rhs_;            // global-step scratch, reused by every iteration
+  std::vector<double> rhs_term_weights_;  // RotationOperator::apply scratch
   RowMatrixX3d node_positions_;    // local-step scratch
   mutable std::unique_ptr<NodeStencil> full_stencil_;  // for energy(), built on first use
   // The bindings release the GIL: two Python threads sharing a Deformer take turns here.

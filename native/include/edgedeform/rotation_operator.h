@@ -37,8 +37,15 @@ class RotationOperator {
   void set_term_lambda(const Eigen::VectorXd& term_lambda, const Eigen::VectorXd& term_similar = {});
 
   // y = c + (the operator applied to R, s); rows in parallel. c and y are (rows x 3).
+  // term_weights is scratch (two per term, resized here) that a caller keeps, so that an
+  // iteration allocates nothing.
   void apply(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
-             const Eigen::MatrixXd& c, Eigen::MatrixXd& y) const;
+             const Eigen::MatrixXd& c, Eigen::MatrixXd& y, std::vector<double>& term_weights) const;
+  void apply(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
+             const Eigen::MatrixXd& c, Eigen::MatrixXd& y) const {
+    std::vector<double> term_weights;
+    apply(rotation, scale, c, y, term_weights);
+  }
 
   int rows() const { return static_cast<int>(offsets_.size()) - 1; }
   int blocks() const { return static_cast<int>(term_.size()); }
