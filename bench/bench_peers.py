@@ -214,6 +214,12 @@ def main(argv=None):
                    help="PNG plot ('' for none)")
     p.add_argument("--markdown", default=None,
                    help="rewrite the peers section of this file (plot copied to docs/img)")
+    p.add_argument("--section", default="peers",
+                   help="the marked section of --markdown to rewrite (another name keeps a "
+                        "second run, e.g. a long convergence run with its own --json, apart)")
+    p.add_argument("--heading", default="## Peers: CGAL, libigl, Blender Laplacian Deform "
+                                        "(bench/bench_peers.py)",
+                   help="the section's heading line")
     args = p.parse_args(argv)
 
     import edgedeform as ed
@@ -248,7 +254,7 @@ def main(argv=None):
     result = json.loads(out.read_text()) if out.exists() else {"rows": []}
     cmd = "bench/bench_peers.py " + " ".join(
         a for a in (argv if argv is not None else sys.argv[1:])
-        if a not in ("--markdown", args.markdown))
+        if a not in ("--markdown", args.markdown, "--heading", args.heading))
     result.update(machine=machine_info(), build_info=dict(ed.build_info()),
                   settings={k: getattr(args, k) for k in
                             ("ref_iterations", "ref_tol", "eps", "repeat", "block")},
@@ -293,7 +299,7 @@ def main(argv=None):
         except ImportError as e:     # matplotlib comes with bench/setup_peers.sh
             print(f"\nno plot ({e}); bench/setup_peers.sh installs matplotlib")
     if args.markdown:
-        peers_report.write_markdown(result, args.markdown, args.plot)
+        peers_report.write_markdown(result, args.markdown, args.plot, args.section, args.heading)
         print(f"updated {args.markdown}")
 
 

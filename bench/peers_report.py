@@ -253,16 +253,17 @@ def _verdicts(result):
     return "\n".join(out)
 
 
-def write_markdown(result, md_path, plot_path):
+def write_markdown(result, md_path, plot_path, section="peers",
+                   heading="## Peers: CGAL, libigl, Blender Laplacian Deform (bench/bench_peers.py)"):
     md_path = Path(md_path)
-    img = md_path.parent / "img" / "bench_peers.png"
+    img = md_path.parent / "img" / f"bench_{section.replace('-', '_')}.png"
     if plot_path and Path(plot_path).exists():
         img.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(plot_path, img)
     m, s, bi = result["machine"], result["settings"], result.get("build_info", {})
     versions = sorted({r["version"] for r in result["rows"] if r.get("version")})
     skipped = "".join(f"\n- skipped {k}: {v}" for k, v in result.get("skipped", {}).items())
-    body = f"""## Peers: CGAL, libigl, Blender Laplacian Deform (bench/bench_peers.py)
+    body = f"""{heading}
 
 Machine: {m['cpu']}, {m['cores']} cores, **shared with other work while this ran** (1-minute
 load average when each row finished is in bench/results/peers.json; {m.get('load_1min', 0):.1f}
@@ -295,7 +296,7 @@ its own process:
   update, one warm-started iteration (accelerated when available); compared with one
   Blender frame.
 
-![peers](img/bench_peers.png)
+![peers](img/{img.name})
 
 {method_table(result['rows'])}
 
@@ -316,4 +317,4 @@ Issue 8 targets this benchmark measures:
 Commands (after `bench/setup_peers.sh`; rows merge across runs):
 {chr(10).join('- `PYTHONPATH=build/python /usr/bin/python3 ' + c + '`' for c in result.get('commands', []))}
 """
-    replace_section(md_path, "peers", body)
+    replace_section(md_path, section, body)
