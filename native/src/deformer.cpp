@@ -190,15 +190,15 @@ void Deformer::ensure_factored(SolveResult& result) {
 
 void Deformer::factorize(const AssembledSystem& assembled) {
   const bool laplacian_pattern = assembled.laplacian_term;  // A's pattern (update_stiffness)
-  const bool rank_fits = !vertex_rank_.empty() && rank_laplacian_pattern_ == laplacian_pattern;
-  const std::vector<int> order = rank_fits ? free_vertex_order(*system_, vertex_rank_) : std::vector<int>{};
+  const std::vector<int>& rank = vertex_rank_[laplacian_pattern];
+  const std::vector<int> order = free_vertex_order(*system_, rank);  // empty if some vertex is unranked
   if (!order.empty()) {
     cholesky_.factorize(assembled.A, order);
     return;
   }
-  // Lambda moved to or from 1 everywhere (the kept order is the other pattern's): a quick
-  // order, as this is the live slider; otherwise the least fill, once per mesh.
-  const bool crossing = !vertex_rank_.empty() && !rank_fits;
+  // Lambda moved to or from 1 everywhere for the first time (only the other pattern has an
+  // order): a quick order, as this is the live slider; otherwise the least fill.
+  const bool crossing = rank.empty() && !vertex_rank_[!laplacian_pattern].empty();
   cholesky_.factorize(assembled.A, crossing ? Ordering::Quick : Ordering::LeastFill);
   remember_order(laplacian_pattern);
 }
@@ -234,10 +234,10 @@ std::shared_ptr<const AssembledSystem> Deformer::current_operators() {
 
 void Deformer::remember_order(bool laplacian_pattern) {
   const std::vector<int> order = cholesky_.order();
-  rank_laplacian_pattern_ = laplacian_pattern;
-  vertex_rank_.assign(static_cast<size_t>(n_vertices()), -1);
+  std::vector<int>& vertex_rank = vertex_rank_[laplacian_pattern];
+  vertex_rank.assign(static_cast<size_t>(n_vertices()), -1);
   for (size_t k = 0; k < order.size(); ++k)
-    vertex_rank_[static_cast<size_t>(system_->free_vertices[static_cast<size_t>(order[k])])] = static_cast<int>(k);
+    vertex_rank[static_cast<size_t>(system_->free_vertices[static_cast<size_t>(order[k])])] = static_cast<int>(k);
 }
 
 SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& options) {

@@ -187,6 +187,13 @@ TEST_P(IncrementalFactor, LambdaAcrossOneOrdersTheNewPatternAfresh) {
       EXPECT_LT(d.factor_nonzeros(), 1.2 * fresh.factor_nonzeros()) << from << " -> " << to;
     }
     EXPECT_LT(relative_difference(r.positions, fresh_positions(e, domain, to, sets)), 1e-9) << from << " -> " << to;
+    // Back and forth again: each pattern keeps its order, nothing is ordered anew.
+    for (double lambda : {from, to, from}) {
+      d.set_stiffness(lambda);
+      const SolveResult again = five_cold_iterations(d, e.targets(e.high));
+      EXPECT_LT(relative_difference(again.positions, fresh_positions(e, domain, lambda, sets)), 1e-9) << lambda;
+    }
+    if (std::string(SparseCholesky::backend()) == "cholmod-supernodal") EXPECT_EQ(d.orderings(), 2);
   }
 }
 

@@ -139,14 +139,13 @@ class Deformer {
   std::shared_ptr<const ConstrainedSystem> base_system_;
   std::shared_ptr<AssembledSystem> base_assembled_;
   int assemblies_ = 0;
-  // Elimination rank per vertex (-1: never free) from the last fill-reducing ordering;
-  // constraint sets freeing only ranked vertices reuse it (free_vertex_order), as long as A
-  // has the pattern it was ordered for: with the Laplacian term (some lambda < 1) or without
-  // (lambda = 1 everywhere). The other pattern's order fills badly (koala, edge domain: the
-  // lambda = 1 order on the lambda = 0.5 pattern gave 4.9x the factor entries, and every
-  // back-substitution 2.7x the time).
-  std::vector<int> vertex_rank_;
-  bool rank_laplacian_pattern_ = false;
+  // Elimination rank per vertex (-1: never free) from the last fill-reducing ordering, one
+  // per pattern of A: [0] lambda = 1 everywhere, [1] with the Laplacian term (some lambda
+  // < 1). Constraint sets freeing only ranked vertices reuse it (free_vertex_order). The
+  // other pattern's order fills badly (koala, edge domain: the lambda = 1 order on the
+  // lambda = 0.5 pattern gave 4.9x the factor entries, and every back-substitution 2.7x the
+  // time), so the slider crossing 1 orders each pattern once and then reuses its order.
+  std::vector<int> vertex_rank_[2];
   SparseCholesky cholesky_;
   // A second factorization, swapped with cholesky_: while a part of the base set is factored
   // (a handle group pinned), it keeps the base set's, so that releasing the group costs no
