@@ -82,7 +82,7 @@ def run_changes(ed, V, F, edit, domain, lam, repeat):
     more_targets = np.vstack([targets, V[belt]])
     lam2 = 0.25 if lam != 0.25 else 0.75
     out = {"belt_vertices": int(len(belt))}
-    stiff, add, remove, fresh_add, fresh_remove, fresh_pre = [], [], [], [], [], []
+    stiff, stiff_again, add, remove, fresh_add, fresh_remove, fresh_pre = [], [], [], [], [], [], []
     diff_stiff = diff_add = diff_remove = 0.0
     for _ in range(repeat):
         d = ed.Deformer(V, F, domain=domain)
@@ -101,6 +101,14 @@ def run_changes(ed, V, F, edit, domain, lam, repeat):
         rf = f.solve(targets, max_iterations=5, tolerance=0.0, warm_start=False)
         fresh_pre.append(construct_ms + float(rf.factor_ms))
         diff_stiff = max(diff_stiff, relative_difference(r.positions, rf.positions))
+        # The slider back and forth again: from λ = 1 the first change had to order the
+        # Laplacian's pattern; the second finds that order kept.
+        d.set_stiffness(lam)
+        d.solve(targets, max_iterations=1)
+        d.set_stiffness(lam2)
+        r = d.solve(targets, max_iterations=5, tolerance=0.0, warm_start=False)
+        stiff_again.append(float(r.factor_ms))
+        diff_stiff = max(diff_stiff, relative_difference(r.positions, rf.positions))
         # a handle group added, then removed again
         for group, tg, times, fresh_times, key in ((more, more_targets, add, fresh_add, "add"),
                                                    (handles, targets, remove, fresh_remove, "remove")):
@@ -117,7 +125,8 @@ def run_changes(ed, V, F, edit, domain, lam, repeat):
                 diff_add = max(diff_add, diff)
             else:
                 diff_remove = max(diff_remove, diff)
-    out.update({"stiffness_change_ms": min(stiff), "new_lambda": lam2,
+    out.update({"stiffness_change_ms": min(stiff), "stiffness_change_again_ms": min(stiff_again),
+                "new_lambda": lam2,
                 "fresh_precompute_new_lambda_ms": min(fresh_pre), "handle_add_ms": min(add),
                 "handle_remove_ms": min(remove), "fresh_factor_add_ms": min(fresh_add),
                 "fresh_factor_remove_ms": min(fresh_remove),
@@ -385,7 +394,10 @@ def targets(rows, peaks=()):
         out.append(
             f"- {t['size']} {t['domain']} λ = {t['lambda']:g} (threads {t.get('threads')}): λ change "
             f"to {t.get('new_lambda', 0.25):g}: {100 * lam:.0f} % of this λ's precompute, {100 * lam_new:.0f} % "
-            f"of a fresh precompute at the new λ (≤ 40 %: {'met' if max(lam, lam_new) <= 0.4 else '**missed**'}); "
+            f"of a fresh precompute at the new λ (≤ 40 %: {'met' if max(lam, lam_new) <= 0.4 else '**missed**'})"
+            + (f", again after going back: {100 * t['stiffness_change_again_ms'] / t['precompute_ms']:.0f} % / "
+               f"{100 * t['stiffness_change_again_ms'] / t['fresh_precompute_new_lambda_ms']:.0f} %"
+               if "stiffness_change_again_ms" in t else "") + "; "
             f"belt of {t['belt_vertices']} vertices added {100 * add:.0f} % / removed {100 * rem:.0f} % "
             f"of a fresh Deformer's set_constraints + factorization (≤ 30 %: "
             f"{'met' if max(add, rem) <= 0.3 else '**missed**'}); largest position difference "
