@@ -93,14 +93,17 @@ void RotationOperator::apply(const std::vector<Eigen::Matrix3d>& rotation, const
                              const Eigen::MatrixXd& c, Eigen::MatrixXd& y, std::vector<double>& term_weights) const {
   // Each term's two weights first, side by side: a block then gathers one cache line for
   // them instead of three (lambda, phi, s), which made the row loop ~20 % slower (koala).
-  const size_t T = lambda_.size();
-  term_weights.resize(2 * T);
-  for (size_t t = 0; t < T; ++t) {
-    const double s = scale(static_cast<Eigen::Index>(t));
-    term_weights[2 * t] = lambda_[t] + similar_[t] * s;                  // on h_R
-    term_weights[2 * t + 1] = (1.0 - lambda_[t] - similar_[t]) * s;      // on h_T
-  }
-  const double* weight = term_weights.data();
+  const int T = terms();
+  term_weights.resize(2 * static_cast<size_t>(T));
+  double* weight = term_weights.data();
+  parallel_for(T, kRowsPerChunk, kMinParallelRows, [&](int begin, int end) {
+    for (int t = begin; t < end; ++t) {
+      const auto k = static_cast<size_t>(t);
+      const double s = scale(t);
+      weight[2 * k] = lambda_[k] + similar_[k] * s;                  // on h_R
+      weight[2 * k + 1] = (1.0 - lambda_[k] - similar_[k]) * s;      // on h_T
+    }
+  });
   const int n = rows();
   y.resize(n, 3);
   parallel_for(n, kRowsPerChunk, kMinParallelRows, [&](int begin, int end) {

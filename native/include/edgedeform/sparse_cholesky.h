@@ -13,7 +13,7 @@ namespace edgedeform {
 // How a new pattern is ordered when no elimination order is given.
 enum class Ordering {
   LeastFill,  // AMD and METIS, keeping the one with less fill (METIS dominates the analysis)
-  Quick,      // AMD alone: a fifth of the analysis, ~10 % more fill on these meshes
+  Quick,      // AMD alone: a fifth of the analysis; koala: 11 % (edge) to 15 % (primal) more fill
 };
 
 class SparseCholesky {
