@@ -7,6 +7,7 @@
 
 #include "edgedeform/errors.h"
 #include "edgedeform/serial_openmp.h"
+#include "edgedeform/supernodal_solve.h"
 
 #ifdef EDGEDEFORM_HAS_CHOLMOD
 #include <cholmod.h>
@@ -40,10 +41,9 @@ struct Pattern {
 struct SparseCholesky::Impl {
   cholmod_common common;
   cholmod_factor* factor = nullptr;
-  // Work space reused by cholmod_solve2, so a solve allocates nothing after the first.
-  cholmod_dense* x = nullptr;
-  cholmod_dense* y = nullptr;
-  cholmod_dense* e = nullptr;
+  SolveWork work;     // supernodal_solve's scratch: a solve allocates nothing after the first
+  TreeSplit split;    // of the current analysis's elimination tree
+  bool split_known = false;
   Pattern pattern;
   bool factored = false;
   int analyses = 0;
@@ -73,11 +73,21 @@ struct SparseCholesky::Impl {
     common.method[0].ordering = CHOLMOD_GIVEN;
   }
   ~Impl() {
-    cholmod_free_dense(&x, &common);
-    cholmod_free_dense(&y, &common);
-    cholmod_free_dense(&e, &common);
     cholmod_free_factor(&factor, &common);
     cholmod_finish(&common);
+  }
+
+  static SupernodalFactor supernodal(const cholmod_factor& F) {
+    SupernodalFactor L;
+    L.n = static_cast<int>(F.n);
+    L.supernodes = static_cast<int>(F.nsuper);
+    L.super = static_cast<const int*>(F.super);
+    L.pi = static_cast<const int*>(F.pi);
+    L.px = static_cast<const int*>(F.px);
+    L.rows = static_cast<const int*>(F.s);
+    L.values = static_cast<const double*>(F.x);
+    L.perm = static_cast<const int*>(F.Perm);
+    return L;
   }
 
   // A view of Eigen's compressed column storage; stype -1 reads the lower triangle.
@@ -130,6 +140,8 @@ void SparseCholesky::factorize(const SparseMatrix& A, const std::vector<int>& or
     if (!m.factor) throw FactorizationError("CHOLMOD could not analyze the matrix (status " + std::to_string(m.common.status) + ")");
     m.pattern.remember(A);
     ++m.analyses;
+    m.split = TreeSplit{};  // until factored: the supernodes are known from then on
+    m.split_known = false;
   }
   ++m.factorizations;
   const int ok = cholmod_factorize(&view, m.factor, &m.common);
@@ -138,23 +150,22 @@ void SparseCholesky::factorize(const SparseMatrix& A, const std::vector<int>& or
         "the deformation matrix is not positive definite (column " + std::to_string(m.factor->minor) +
         " of " + std::to_string(m.factor->n) + "): a free region without constraints, or degenerate triangles "
         "whose weights were all clamped to zero");
+  if (!m.factor->is_super || !m.factor->is_ll)  // solve() reads the supernodal layout
+    throw FactorizationError("CHOLMOD returned a simplicial factor where a supernodal one was asked for");
+  if (!m.split_known) {
+    m.split = split_elimination_tree(Impl::supernodal(*m.factor));
+    m.split_known = true;
+  }
   m.factored = true;
 }
 
 void SparseCholesky::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) {
   Impl& m = *impl_;
   if (!m.factored) throw FactorizationError("solve called without a factorization");
-  cholmod_dense b{};
-  b.nrow = static_cast<size_t>(B.rows());
-  b.ncol = static_cast<size_t>(B.cols());
-  b.nzmax = b.nrow * b.ncol;
-  b.d = b.nrow;
-  b.x = const_cast<double*>(B.data());
-  b.xtype = CHOLMOD_REAL;
-  b.dtype = CHOLMOD_DOUBLE;
-  if (!cholmod_solve2(CHOLMOD_A, m.factor, &b, nullptr, &m.x, nullptr, &m.y, &m.e, &m.common))
-    throw FactorizationError("CHOLMOD solve failed (status " + std::to_string(m.common.status) + ")");
-  X = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(m.x->x), B.rows(), B.cols());
+  // common.supernodal = CHOLMOD_SUPERNODAL: the factor is always supernodal LL^T, solved
+  // here without cholmod_solve2 (supernodal_solve.h says why).
+  const SupernodalFactor L = Impl::supernodal(*m.factor);
+  supernodal_solve(L, m.split, B, X, m.work);
 }
 
 std::vector<int> SparseCholesky::order() const {
@@ -169,6 +180,7 @@ int SparseCholesky::analyses() const { return impl_->analyses; }
 int SparseCholesky::orderings() const { return impl_->orderings; }
 int SparseCholesky::factorizations() const { return impl_->factorizations; }
 double SparseCholesky::factor_nonzeros() const { return impl_->factor ? impl_->common.lnz : 0.0; }
+bool SparseCholesky::solves_in_parallel() const { return impl_->factored && impl_->split.parallel(); }
 const char* SparseCholesky::backend() { return "cholmod-supernodal"; }
 
 #else  // Eigen fallback
@@ -210,6 +222,8 @@ void SparseCholesky::factorize(const SparseMatrix& A, Ordering) {
 
 void SparseCholesky::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) {
   if (!impl_->factored) throw FactorizationError("solve called without a factorization");
+  if (B.rows() != impl_->ldlt.rows() || B.cols() < 1 || B.cols() > 16)
+    throw std::invalid_argument("solve: B must have the matrix's rows and 1..16 columns");
   X = impl_->ldlt.solve(B);
 }
 
@@ -220,6 +234,7 @@ int SparseCholesky::factorizations() const { return impl_->factorizations; }
 double SparseCholesky::factor_nonzeros() const {
   return impl_->factored ? static_cast<double>(impl_->ldlt.matrixL().nestedExpression().nonZeros()) : 0.0;
 }
+bool SparseCholesky::solves_in_parallel() const { return false; }
 const char* SparseCholesky::backend() { return "eigen-simplicial-ldlt"; }
 
 #endif

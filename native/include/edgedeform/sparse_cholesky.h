@@ -35,7 +35,8 @@ class SparseCholesky {
   // The elimination order of the current analysis (order[k] = column eliminated k-th);
   // empty before the first analysis and in the Eigen fallback.
   std::vector<int> order() const;
-  // Solves A X = B for a factored A. B and X are (n x k), column-major.
+  // Solves A X = B for a factored A. B and X are (n x k), column-major, 1 <= k <= 16
+  // (std::invalid_argument otherwise, or when B's rows are not A's; X is then untouched).
   void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X);
 
   // Exchanges the factorizations (and their counts) of two solvers.
@@ -46,6 +47,9 @@ class SparseCholesky {
   int orderings() const;  // how many of them computed a fill-reducing order
   int factorizations() const;  // how many numeric factorizations so far
   double factor_nonzeros() const;  // entries of L from the last analysis (0 before any)
+  // Whether solve() runs on two threads: the factor's elimination tree splits into two
+  // halves of similar work (supernodal_solve.h). Always false in the Eigen fallback.
+  bool solves_in_parallel() const;
   static const char* backend();
 
  private:
