@@ -43,7 +43,6 @@ struct SparseCholesky::Impl {
   cholmod_factor* factor = nullptr;
   SolveWork work;     // supernodal_solve's scratch: a solve allocates nothing after the first
   TreeSplit split;    // of the current analysis's elimination tree
-  bool split_known = false;
   Pattern pattern;
   bool factored = false;
   int analyses = 0;
@@ -140,8 +139,8 @@ void SparseCholesky::factorize(const SparseMatrix& A, const std::vector<int>& or
     if (!m.factor) throw FactorizationError("CHOLMOD could not analyze the matrix (status " + std::to_string(m.common.status) + ")");
     m.pattern.remember(A);
     ++m.analyses;
-    m.split = TreeSplit{};  // until factored: the supernodes are known from then on
-    m.split_known = false;
+    // The symbolic supernodal factor already holds the supernodes and their rows.
+    m.split = split_elimination_tree(Impl::supernodal(*m.factor));
   }
   ++m.factorizations;
   const int ok = cholmod_factorize(&view, m.factor, &m.common);
@@ -152,10 +151,6 @@ void SparseCholesky::factorize(const SparseMatrix& A, const std::vector<int>& or
         "whose weights were all clamped to zero");
   if (!m.factor->is_super || !m.factor->is_ll)  // solve() reads the supernodal layout
     throw FactorizationError("CHOLMOD returned a simplicial factor where a supernodal one was asked for");
-  if (!m.split_known) {
-    m.split = split_elimination_tree(Impl::supernodal(*m.factor));
-    m.split_known = true;
-  }
   m.factored = true;
 }
 
