@@ -29,8 +29,15 @@ struct Supernode {
   double entries() const { return static_cast<double>(columns) * height; }
 };
 
+// A supernode's pattern only (no values: a symbolic factor has none, and the split needs none).
+Supernode supernode_shape(const SupernodalFactor& L, int s) {
+  return {L.super[s], L.super[s + 1] - L.super[s], L.pi[s + 1] - L.pi[s], L.rows + L.pi[s], nullptr};
+}
+
 Supernode supernode(const SupernodalFactor& L, int s) {
-  return {L.super[s], L.super[s + 1] - L.super[s], L.pi[s + 1] - L.pi[s], L.rows + L.pi[s], L.values + L.px[s]};
+  Supernode sn = supernode_shape(L, s);
+  sn.block = L.values + L.px[s];
+  return sn;
 }
 
 // Where the forward substitution of one subtree writes: its own rows (columns below
@@ -135,7 +142,7 @@ TreeSplit split_elimination_tree(const SupernodalFactor& L, double min_entries) 
   double total = 0.0;
   for (int s = 0; s < S; ++s) {
     const auto u = static_cast<size_t>(s);
-    const Supernode sn = supernode(L, s);
+    const Supernode sn = supernode_shape(L, s);
     first[u] = s;
     work[u] += sn.entries();
     total += sn.entries();
@@ -175,7 +182,7 @@ TreeSplit split_elimination_tree(const SupernodalFactor& L, double min_entries) 
       return split;
     }
     const int open = subtrees.front();
-    const Supernode sn = supernode(L, open);
+    const Supernode sn = supernode_shape(L, open);
     tail_work += sn.entries();
     if (tail_work > kMaxTailShare * total || children[static_cast<size_t>(open)].empty()) return {};
     tail.push_back(open);

@@ -43,7 +43,8 @@ struct TreeSplit {
   int tail_columns = 0;
   bool parallel() const { return !halves[0].empty() && !halves[1].empty(); }
 };
-// Factors with fewer stored entries are solved on one thread (a wake-up costs more).
+// Reads the pattern only (values may be null, as in a symbolic factor). Factors with fewer
+// stored entries than min_entries are solved on one thread (a wake-up costs more).
 constexpr double kMinParallelSolveEntries = 200000;
 TreeSplit split_elimination_tree(const SupernodalFactor& L, double min_entries = kMinParallelSolveEntries);
 
