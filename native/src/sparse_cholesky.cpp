@@ -217,8 +217,9 @@ void SparseCholesky::factorize(const SparseMatrix& A, Ordering) {
 
 void SparseCholesky::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) {
   if (!impl_->factored) throw FactorizationError("solve called without a factorization");
-  if (B.rows() != impl_->ldlt.rows() || B.cols() < 1 || B.cols() > 16)
-    throw std::invalid_argument("solve: B must have the matrix's rows and 1..16 columns");
+  if (B.rows() != impl_->ldlt.rows() || B.cols() < 1 || B.cols() > kMaxRightHandSides)
+    throw std::invalid_argument("solve: B must have the matrix's rows and 1.." +
+                                std::to_string(kMaxRightHandSides) + " columns");
   X = impl_->ldlt.solve(B);
 }
 

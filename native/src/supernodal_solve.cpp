@@ -12,10 +12,9 @@ namespace {
 
 // The right-hand sides are kept row-interleaved (row r's k values side by side), so that one
 // factor entry updates all of them from one cache line. K is fixed at compile time for the
-// global step's 3 (0: the count is a runtime argument, at most kMaxColumns), so that the
+// global step's 3 (0: the count is a runtime argument, at most kMaxRightHandSides), so that the
 // inner loops unroll. One column at a time: applying panels of 2-4 columns per row of the
 // work array was slower on the koala's factors (measured, 2026-11-30).
-constexpr int kMaxColumns = 16;
 // Subtrees are opened until the larger half has at most kMaxHalfShare of their work; a tail
 // (the opened supernodes) above kMaxTailShare of all the work gains too little: no split.
 constexpr double kMaxHalfShare = 0.7;
@@ -58,7 +57,7 @@ struct Target {
 template <int K>
 void forward(const SupernodalFactor& L, int first, int end, const Target& out, int k_runtime) {
   const int k = K > 0 ? K : k_runtime;
-  double x[K > 0 ? K : kMaxColumns];
+  double x[K > 0 ? K : kMaxRightHandSides];
   for (int s = first; s < end; ++s) {
     const Supernode sn = supernode(L, s);
     for (int j = 0; j < sn.columns; ++j) {
@@ -80,7 +79,7 @@ void forward(const SupernodalFactor& L, int first, int end, const Target& out, i
 template <int K>
 void backward(const SupernodalFactor& L, int first, int end, double* w, int k_runtime) {
   const int k = K > 0 ? K : k_runtime;
-  double sum[K > 0 ? K : kMaxColumns];
+  double sum[K > 0 ? K : kMaxRightHandSides];
   for (int s = end - 1; s >= first; --s) {
     const Supernode sn = supernode(L, s);
     for (int j = sn.columns - 1; j >= 0; --j) {
@@ -194,9 +193,9 @@ TreeSplit split_elimination_tree(const SupernodalFactor& L, double min_entries) 
 void supernodal_solve(const SupernodalFactor& L, const TreeSplit& split, const Eigen::MatrixXd& B,
                       Eigen::MatrixXd& X, SolveWork& work) {
   const int n = L.n, k = static_cast<int>(B.cols());
-  if (B.rows() != n || k < 1 || k > kMaxColumns)
+  if (B.rows() != n || k < 1 || k > kMaxRightHandSides)
     throw std::invalid_argument("supernodal_solve: B must have the factor's rows and 1.." +
-                                std::to_string(kMaxColumns) + " columns");
+                                std::to_string(kMaxRightHandSides) + " columns");
   work.w.resize(static_cast<size_t>(n) * static_cast<size_t>(k));
   double* w = work.w.data();
   for (int r = 0; r < n; ++r)

@@ -127,7 +127,7 @@ TEST(SparseCholesky, RefusesRightHandSidesOfTheWrongShape) {
   EXPECT_EQ(X.rows(), 100);
 }
 
-TEST(SparseCholesky, SolvesALargeGridOnTwoThreadsLikeOnOne) {
+TEST(SparseCholesky, SolvesALargeGridOnTwoThreadsDeterministically) {
   // 10,000 unknowns: a factor large enough to split (supernodal_solve.h) on two threads.
   const SparseMatrix A = grid(100, 0.001);
   SparseCholesky chol;

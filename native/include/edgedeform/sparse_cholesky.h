@@ -36,7 +36,8 @@ class SparseCholesky {
   // empty before the first analysis and in the Eigen fallback.
   std::vector<int> order() const;
   // Solves A X = B for a factored A. B and X are (n x k), column-major, 1 <= k <= 16
-  // (std::invalid_argument otherwise, or when B's rows are not A's; X is then untouched).
+  // (kMaxRightHandSides, supernodal_solve.h); std::invalid_argument otherwise, or when B's
+  // rows are not A's, and X is then untouched.
   void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X);
 
   // Exchanges the factorizations (and their counts) of two solvers.

@@ -4,8 +4,9 @@
 //
 // Why not cholmod_solve2: per supernode it calls BLAS (dtrsm, dgemm) on blocks a few
 // columns wide with 3 right-hand sides, and OpenBLAS spends much of that in call overhead
-// and packing copies (perf, koala 50k: the copy kernels alone were a quarter of the solve;
-// these loops took 3.3 ms where it took 5.6, primal lambda = 1).
+// and packing copies (perf, koala 50k, edge lambda 0.5, 200 iterations: the packing copies
+// alone took 5.5 % of all samples; these loops took 3.3 ms where it took 5.6, primal
+// lambda = 1).
 #pragma once
 
 #include <utility>
@@ -48,13 +49,16 @@ struct TreeSplit {
 constexpr double kMinParallelSolveEntries = 200000;
 TreeSplit split_elimination_tree(const SupernodalFactor& L, double min_entries = kMinParallelSolveEntries);
 
+// Most right-hand sides one solve takes (the global step has 3).
+constexpr int kMaxRightHandSides = 16;
+
 // Scratch a caller keeps, so that a solve allocates nothing after the first.
 struct SolveWork {
   std::vector<double> w;        // the permuted right-hand sides, row-interleaved
   std::vector<double> tail[2];  // each half's updates of the tail's rows
 };
 
-// Solves A X = B. B and X are (n x k), column-major, 1 <= k <= 16 (std::invalid_argument
+// Solves A X = B. B and X are (n x k), column-major, 1 <= k <= kMaxRightHandSides (std::invalid_argument
 // otherwise, X untouched). The result does not depend on which thread ran which half.
 void supernodal_solve(const SupernodalFactor& L, const TreeSplit& split, const Eigen::MatrixXd& B,
                       Eigen::MatrixXd& X, SolveWork& work);
