@@ -1,0 +1,201 @@
+#!/usr/bin/env python3
+"""Why some solves converge slowly: the spectrum of the one-step map at its fixed point.
+
+The local/global iteration x -> G(x) (one local step, then one global step) contracts the
+error e along an eigenvector of G's Jacobian J (at the fixed point) by that eigenvalue per
+iteration. Eigenvalues near 1 are modes that the plain iteration needs ~1/(1 - |mu|)
+iterations per factor e to remove, and that Anderson (a window of 5 secants) can only cancel
+a few at a time; an eigenvalue above 1 is a fixed point the plain iteration moves away from.
+
+For each cell: the reference (a cold default solve, tolerance 1e-10, at most 6000
+iterations), then Arnoldi with products J v taken by finite differences of the package's own
+one-step map (`solve(..., max_iterations=1, initial=x, acceleration="none")`) at that point.
+Reported: the largest Ritz moduli, how many exceed 0.99 / 0.999 / 1, and the Arnoldi residual
+of the largest (how well that value is resolved). With --spread, the reference is also
+computed in child processes with 1 and with 2 solver threads, and the two end points compared
+(round-off differs between them, nothing else).
+
+    PYTHONPATH=build/python /usr/bin/python3 bench/bench_spectrum.py [--steps 100] [--spread]
+        [--cells koala:lift:edge:1,head:lift:edge:0.5] [--markdown docs/benchmarks.md]
+        [--from-json bench/results/spectrum.json --markdown docs/benchmarks.md]
+Writes bench/results/spectrum.json (and its section of the Markdown file).
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+sys.path.insert(0, str(HERE))
+from bench_convergence import KOALA, SAMPLES, diag, edit  # noqa: E402
+from machine import machine_info  # noqa: E402
+from md_section import replace_section  # noqa: E402
+
+DEFAULT_CELLS = ("spot:lift:edge:0.5,dino:lift:edge:0.5,head:lift:edge:1,head:lift:edge:0.5,"
+                 "head:lift:edge:0,koala:lift:edge:1,koala:lift:edge:0.5")
+REFERENCE_BUDGET = 6000
+FD_STEP = 1e-5  # finite-difference step, / diag: far above round-off, far below the nonlinearity
+
+
+def mesh_path(name):
+    return KOALA if name == "koala" else ROOT / "blend_samples" / "meshes" / SAMPLES[name]
+
+
+def problem(ed, cell):
+    from edgedeform.mesh_files import read_mesh
+    name, edit_name, domain, lam = cell
+    V, F = read_mesh(mesh_path(name))
+    handles, static, targets = edit(V, edit_name)
+    d = ed.Deformer(V, F, domain=domain)
+    d.set_constraints(handles=handles, static=static)
+    d.set_stiffness(lam)
+    free = np.ones(len(V), bool)
+    free[handles] = free[static] = False
+    return d, targets, free, diag(V)
+
+
+def reference(d, targets):
+    r = d.solve(targets, max_iterations=REFERENCE_BUDGET, tolerance=1e-10, warm_start=False)
+    return np.asarray(r.positions), r.iterations, float(r.residuals[-1]), bool(r.converged)
+
+
+def arnoldi(G, x, free, dg, steps, seed=0):
+    """Ritz values of J = dG/dx at x (free coordinates), and the Arnoldi residual of each."""
+    g0 = G(x)
+    n = int(free.sum()) * 3
+    Q = np.zeros((steps + 1, n))
+    H = np.zeros((steps + 1, steps))
+    q = np.random.default_rng(seed).standard_normal(n)
+    Q[0] = q / np.linalg.norm(q)
+    for k in range(steps):
+        v = Q[k]
+        eps = FD_STEP * dg / np.abs(v).max()
+        y = x.copy()
+        y[free] += (eps * v).reshape(-1, 3)
+        w = (G(y) - g0)[free].ravel() / eps
+        for _ in range(2):  # Gram-Schmidt twice: the basis stays orthogonal to round-off
+            c = Q[:k + 1] @ w
+            H[:k + 1, k] += c
+            w -= c @ Q[:k + 1]
+        H[k + 1, k] = np.linalg.norm(w)
+        Q[k + 1] = w / H[k + 1, k]
+    theta, S = np.linalg.eig(H[:steps, :steps])
+    order = np.argsort(-np.abs(theta))
+    resid = np.abs(H[steps, steps - 1] * S[steps - 1, :])
+    return np.abs(theta[order]), resid[order]
+
+
+def child_reference(cell_text, threads, out):
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+    subprocess.run([sys.executable, __file__, "--reference-only", cell_text, "--out", out],
+                   env=env, check=True)
+    z = np.load(out)
+    return z["X"], int(z["iterations"]), float(z["residual"])
+
+
+def run_cell(ed, cell_text, steps, spread, log):
+    name, edit_name, domain, lam = cell_text.split(":")
+    cell = (name, edit_name, domain, float(lam))
+    d, targets, free, dg = problem(ed, cell)
+    t0 = time.time()
+    X, its, res, conv = reference(d, targets)
+    row = {"mesh": name, "edit": edit_name, "domain": domain, "lambda": float(lam),
+           "free": int(free.sum()), "reference_iterations": its, "reference_residual": res,
+           "reference_converged": conv, "reference_s": time.time() - t0, "steps": steps}
+
+    def G(x):
+        return np.asarray(d.solve(targets, max_iterations=1, tolerance=0.0, warm_start=False,
+                                  initial=x, acceleration="none").positions)
+    row["one_step_residual"] = float(np.abs(G(X) - X).max() / dg)
+    mod, resid = arnoldi(G, X, free, dg, steps)
+    row.update(top=[float(m) for m in mod[:8]], top_arnoldi_residual=float(resid[0]),
+               above_099=int((mod > 0.99).sum()), above_0999=int((mod > 0.999).sum()),
+               above_1=int((mod > 1.0 + 1e-4).sum()))
+    if spread:
+        with tempfile.TemporaryDirectory() as tmp:
+            ends = [child_reference(cell_text, t, str(Path(tmp) / f"ref{t}.npz")) for t in (1, 2)]
+        row["spread"] = {"threads_1": {"iterations": ends[0][1], "residual": ends[0][2]},
+                         "threads_2": {"iterations": ends[1][1], "residual": ends[1][2]},
+                         "distance": float(np.abs(ends[0][0] - ends[1][0]).max() / dg)}
+    log(json.dumps(row))
+    return row
+
+
+def cell_label(r):
+    return f"{r['mesh']} {r['edit']} {r['domain']} λ {r['lambda']:g}"
+
+
+def markdown(result):
+    m = result["machine"]
+    lines = [
+        "### Why the slow cells are slow: the one-step map's spectrum (bench/bench_spectrum.py)",
+        "",
+        f"Machine: {m['cpu']}, {m['cores']} cores (load {m['load_1min']:.1f}), {m['date']}. "
+        f"Arnoldi with {result['steps']} finite-difference products of the package's one-step map G "
+        "at the reference (a cold default solve run to tolerance 1e-10, at most 6000 iterations); "
+        "|μ| = the largest Ritz moduli of G's Jacobian there. A mode with |μ| contracts by |μ| per "
+        "plain iteration (|μ| = 0.999: about 2,300 iterations per factor 10); |μ| > 1: the plain "
+        "iteration leaves that point. Counts are of the Ritz values found in those steps, so "
+        "they are lower bounds. 'spread' = the distance between the references computed with 1 "
+        "and with 2 solver threads (round-off is all that differs).",
+        "",
+        "| cell | free vertices | reference its (residual) | G residual there | largest moduli | "
+        "Arnoldi residual of the largest | moduli > 0.99 | > 0.999 | > 1 | spread / diag |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in result["rows"]:
+        sp = r.get("spread")
+        spread = (f"{sp['distance']:.1e} (residuals {sp['threads_1']['residual']:.0e} / "
+                  f"{sp['threads_2']['residual']:.0e})" if sp else "–")
+        ref = (f"{r['reference_iterations']} ({r['reference_residual']:.0e}"
+               f"{'' if r['reference_converged'] else ', not conv.'})")
+        lines.append(
+            f"| {cell_label(r)} | {r['free']:,} | {ref} | {r['one_step_residual']:.0e} | "
+            f"{', '.join(f'{t:.4f}' for t in r['top'][:4])} | {r['top_arnoldi_residual']:.0e} | "
+            f"{r['above_099']} | {r['above_0999']} | {r['above_1']} | {spread} |")
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--cells", default=DEFAULT_CELLS, help="mesh:edit:domain:lambda,...")
+    ap.add_argument("--steps", type=int, default=100, help="Arnoldi steps per cell")
+    ap.add_argument("--spread", action="store_true",
+                    help="also compare references computed with 1 and 2 solver threads")
+    ap.add_argument("--markdown", default=None)
+    ap.add_argument("--json", default=str(HERE / "results" / "spectrum.json"))
+    ap.add_argument("--from-json", default=None, help="only rewrite the Markdown from this JSON")
+    ap.add_argument("--reference-only", default=None, help=argparse.SUPPRESS)
+    ap.add_argument("--out", default=None, help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.from_json:
+        replace_section(args.markdown, "spectrum", markdown(json.loads(Path(args.from_json).read_text())))
+        return
+    import edgedeform as ed
+    if args.reference_only:  # child of --spread: one reference, with this process's threads
+        name, edit_name, domain, lam = args.reference_only.split(":")
+        d, targets, _, _ = problem(ed, (name, edit_name, domain, float(lam)))
+        X, its, res, _ = reference(d, targets)
+        np.savez(args.out, X=X, iterations=its, residual=res)
+        return
+    result = {"machine": machine_info(), "steps": args.steps, "rows": []}
+    for cell_text in args.cells.split(","):
+        result["rows"].append(run_cell(ed, cell_text, args.steps, args.spread,
+                                       lambda s: print(s, flush=True)))
+    Path(args.json).parent.mkdir(exist_ok=True)
+    Path(args.json).write_text(json.dumps(result, indent=1))
+    text = markdown(result)
+    print(text)
+    if args.markdown:
+        replace_section(args.markdown, "spectrum", text)
+
+
+if __name__ == "__main__":
+    main()
