@@ -4,6 +4,7 @@ Pure reading and arithmetic: nothing here writes bpy data (lifecycle.py owns the
 shape and the output). bpy data is read only through mesh_arrays.
 """
 
+import math
 from dataclasses import dataclass, field
 from typing import List, Optional
 
@@ -184,6 +185,28 @@ def status(result, elapsed_ms=None, iterations=None):
         text += ", %.0f ms" % elapsed_ms if elapsed_ms >= 10 else ", %.1f ms" % elapsed_ms
     lines = [('WARNING', w) for w in result.warnings]
     return lines, text, bool(result.converged)
+
+
+# The modal tools (Live, Grab) keep iterating on later ticks until the solve converges. Past
+# this many iterations since the last change they stop and say so, as a cold solve stops at
+# the package's default max_iterations: some shapes never report convergence (a mode that
+# does not contract: docs/benchmarks.md, "spectrum"; or a tolerance of 0), and an idle tool
+# must not keep a core busy and the mesh creeping for ever.
+SETTLE_LIMIT = 2000
+
+
+def settle_status(result, elapsed_ms, iterations, resume_hint):
+    """status() for the modal tools, over the iterations since the last change: (header
+    text, whether to stop iterating until something changes)."""
+    _, text, converged = status(result, elapsed_ms, iterations)
+    if converged or iterations < SETTLE_LIMIT:
+        return text, converged
+    estimate = float(result.distance_estimate)
+    how_far = ("estimated %.0e of the size away" % estimate if math.isfinite(estimate)
+               else "distance unknown")
+    # (Worded without "settled", which the header shows only for a converged solve.)
+    return ("stopped after %d iterations, not converged (%s); %s to go on"
+            % (iterations, how_far, resume_hint)), True
 
 
 # Exceptions an operator turns into a report; the package's FactorizationError is a

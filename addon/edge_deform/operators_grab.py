@@ -70,7 +70,8 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.mouse0 = (event.mouse_region_x, event.mouse_region_y)
         self.mouse = self.mouse0
         self.axis = None
-        self.dirty, self.converged, self.first = True, False, True
+        self.dirty, self.at_rest, self.first = True, False, True
+        self.settle_iterations, self.settle_ms = 0, 0.0     # since the mouse last moved
         self.stats = ""
         self.budget = engine.IterationBudget()
         self.region, self.rv3d = context.region, context.region_data
@@ -96,6 +97,8 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.delta = self.offset()
         targets = np.concatenate([self.start + self.delta, self.pinned])
         iterations = self.budget.iterations(s.iterations)
+        if self.dirty:
+            self.settle_iterations, self.settle_ms = 0, 0.0
         try:
             # The first solve starts from what is shown, not from the rest shape.
             r = self.bound.solve(targets, iterations, s.tolerance, warm=True,
@@ -104,11 +107,14 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             self.bound.write(r.positions)
         except Exception as exc:  # noqa: BLE001 - shown; the next move retries
             tell(self, 'ERROR', error_text(exc))
-            self.dirty, self.converged = False, True
+            self.dirty, self.at_rest = False, True
             return
         self.first = False
         self.dirty = False
-        _, self.stats, self.converged = engine.status(r, (time.perf_counter() - t0) * 1e3)
+        self.settle_iterations += r.iterations
+        self.settle_ms += (time.perf_counter() - t0) * 1e3
+        self.stats, self.at_rest = engine.settle_status(r, self.settle_ms, self.settle_iterations,
+                                                        "move the mouse")
         self.show()
 
     def show(self):
@@ -134,7 +140,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             self.mouse = (event.mouse_region_x, event.mouse_region_y)
             self.dirty = True
         elif event.type == 'TIMER':
-            if self.dirty or not self.converged:
+            if self.dirty or not self.at_rest:
                 self.update()
         elif event.type in AXES and event.value == 'PRESS':
             axis = AXES[event.type]

@@ -4,7 +4,8 @@ Controllers are moved by anything (G/R/S, gizmos, drivers, scripts): every timer
 transforms are compared with the last solved ones; a change (or an unconverged previous
 solve) triggers one warm-started solve and a write through lifecycle.py. Each tick runs at
 most the settings' iterations and no more than fit in ~40 ms, so big meshes stay responsive
-and converge over the following ticks. Only this main-thread timer touches bpy.
+and converge over the following ticks, or stop after engine.SETTLE_LIMIT iterations since
+the last change and say so. Only this main-thread timer touches bpy.
 
 While the object is in another mode (the user entered Edit Mode from the menu) the tool
 pauses; back in Object Mode it binds again (the topology may have changed). Undo or the
@@ -65,7 +66,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                                   for g in self.bound.inputs.handle_groups if g.controller]
         self.settings_state = self.saved_settings
         self.controllers_state = None
-        self.converged = False
+        self.at_rest = False        # converged, or gave up settling: idle until a change
         self.paused = False
         self.problem = None
         self.switch = None          # a domain switch in progress (Stages), see start_switch
@@ -105,13 +106,14 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             if settings_state != self.settings_state:
                 self.bound.settings_changed()
                 self.settings_state = settings_state
-                self.converged = False
+                self.at_rest = False
+                self.settle_iterations, self.settle_ms = 0, 0.0
             try:
                 state = engine.controller_state(ob, self.bound.inputs)
             except ReferenceError:      # a controller was deleted: read the settings again
                 self.rebind()
                 state = engine.controller_state(ob, self.bound.inputs)
-            if state == self.controllers_state and self.converged:
+            if state == self.controllers_state and self.at_rest:
                 return
             if state != self.controllers_state:
                 self.settle_iterations, self.settle_ms = 0, 0.0
@@ -128,13 +130,14 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             if message != self.problem:
                 tell(self, 'ERROR', message)
             self.problem = message
-            self.converged = True
+            self.at_rest = True
             self.show(message)
             return
         self.problem = None
         self.settle_iterations += r.iterations
         self.settle_ms += (time.perf_counter() - t0) * 1e3
-        _, text, self.converged = engine.status(r, self.settle_ms, self.settle_iterations)
+        text, self.at_rest = engine.settle_status(r, self.settle_ms, self.settle_iterations,
+                                                  "move a controller")
         self.updates += 1
         self.stats = text
         self.show(self.stats)
@@ -167,7 +170,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             return
         self.switch = None
         self.bound, self.settings_state = bound, self.switch_to
-        self.controllers_state, self.converged = None, False
+        self.controllers_state, self.at_rest = None, False
         self.settle_iterations, self.settle_ms = 0, 0.0
         self.budget = engine.IterationBudget()   # the new graph has its own speed
         self.show("new graph ready, solving…")
@@ -202,7 +205,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.bound = lifecycle.prepare(self.ob)
         self.settings_state = (self.ob.edge_deform.stiffness, self.ob.edge_deform.domain)
         self.controllers_state = None
-        self.converged = False
+        self.at_rest = False
         for w in self.bound.warnings():
             tell(self, 'WARNING', w)
 

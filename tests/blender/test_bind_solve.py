@@ -322,8 +322,32 @@ def test_solve_names_a_graph_rebuild():
     assert ob.data.shape_keys is not None and r.iterations > 0
 
 
+def test_modal_tools_stop_settling_at_the_limit():
+    """engine.settle_status, on real solve results: 'settled' only when converged; past
+    SETTLE_LIMIT iterations without it, the tools stop and say how far the shape may be."""
+    from edge_deform import engine
+    ob, V, F, handle, static, ctrl = plane_setup()
+    rest = positions(ob.data).astype(float)
+    T = rest[handle] + np.array([0.0, 0.0, 0.3])
+    done = api_solve(rest, F, handle, static, T, 0.5, iterations=2000)
+    assert done.converged
+    text, stop = engine.settle_status(done, 12.0, 5000, "move a controller")
+    assert stop and text.startswith("settled, 5000 iterations"), text
+    going = api_solve(rest, F, handle, static, T, 0.5, iterations=3, tol=0.0)
+    assert not going.converged
+    text, stop = engine.settle_status(going, 12.0, engine.SETTLE_LIMIT - 1, "move a controller")
+    assert not stop and text.startswith("settling…"), text
+    text, stop = engine.settle_status(going, 12.0, engine.SETTLE_LIMIT, "move a controller")
+    assert stop and "settled" not in text, text
+    assert text.startswith("stopped after %d iterations, not converged" % engine.SETTLE_LIMIT)
+    assert text.endswith("; move a controller to go on"), text
+    estimate = float(going.distance_estimate)
+    assert (("estimated %.0e of the size away" % estimate) in text if np.isfinite(estimate)
+            else "distance unknown" in text), text
+
+
 if __name__ == "__main__":
     run([test_solve_matches_api, test_output_mesh_keeps_rest, test_settings_change_rebinds,
          test_stiffness_group, test_quads_and_ngons, test_object_transform_and_warm_start,
          test_topology_change_never_wrong, test_bad_input_cancels, test_apply_and_unbind,
-         test_solve_names_a_graph_rebuild])
+         test_solve_names_a_graph_rebuild, test_modal_tools_stop_settling_at_the_limit])

@@ -214,6 +214,30 @@ def steps():
     print("click selects the controller, G moves it, the mesh follows; %r: ok"
           % tool.header_text)
 
+    # ------------------------------------------------------------ a solve that never settles
+    # Tolerance 0 never converges: Live stops after engine.SETTLE_LIMIT iterations, says
+    # so, leaves the mesh alone, and goes on when a controller moves.
+    from edge_deform import engine
+    ob.edge_deform.tolerance = 0.0
+    ctrl().location = c0 + Vector((0.0, 0.0, -0.15))
+    yield from until(lambda: "stopped after" in (tool.header_text or ""), 60)
+    assert ("stopped after" in tool.header_text and "not converged" in tool.header_text
+            and "move a controller to go on" in tool.header_text), tool.header_text
+    assert tool.settle_iterations >= engine.SETTLE_LIMIT
+    updates, shape = tool.updates, key_positions(ob).copy()
+    for _ in range(30):
+        yield
+    assert tool.updates == updates and np.array_equal(key_positions(ob), shape), \
+        "Live rests after giving up, the mesh untouched"
+    ob.edge_deform.tolerance = 1e-3
+    ctrl().location = c0 + Vector((0.0, 0.0, -0.2))
+    yield from until(lambda: tool.updates > updates
+                     and "stopped after" not in (tool.header_text or ""))
+    assert tool.updates > updates and "stopped after" not in tool.header_text, \
+        tool.header_text
+    print("a solve that never converges: Live stops after %d iterations and resumes on a "
+          "move: ok" % engine.SETTLE_LIMIT)
+
     # ------------------------------------------------------------ Tab as always
     select_mesh(ob)
     event('MOUSEMOVE', at=center())
