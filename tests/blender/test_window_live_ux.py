@@ -216,8 +216,10 @@ def steps():
 
     # ------------------------------------------------------------ a solve that never settles
     # Tolerance 0 never converges: Live stops after engine.SETTLE_LIMIT iterations, says
-    # so, leaves the mesh alone, and goes on when a controller moves.
+    # so, leaves the mesh alone, and goes on when a controller moves. (A lower limit than
+    # the add-on's, so that a loaded machine's slow ticks reach it in time.)
     from edge_deform import engine
+    engine.SETTLE_LIMIT, limit = 300, engine.SETTLE_LIMIT
     ob.edge_deform.tolerance = 0.0
     ctrl().location = c0 + Vector((0.0, 0.0, -0.15))
     yield from until(lambda: "stopped after" in (tool.header_text or ""), 60)
@@ -229,14 +231,14 @@ def steps():
         yield
     assert tool.updates == updates and np.array_equal(key_positions(ob), shape), \
         "Live rests after giving up, the mesh untouched"
-    ob.edge_deform.tolerance = 1e-3
+    ob.edge_deform.tolerance, engine.SETTLE_LIMIT = 1e-3, limit
     ctrl().location = c0 + Vector((0.0, 0.0, -0.2))
     yield from until(lambda: tool.updates > updates
                      and "stopped after" not in (tool.header_text or ""))
     assert tool.updates > updates and "stopped after" not in tool.header_text, \
         tool.header_text
-    print("a solve that never converges: Live stops after %d iterations and resumes on a "
-          "move: ok" % engine.SETTLE_LIMIT)
+    print("a solve that never converges: Live stops after the limit and resumes on a "
+          "move: ok")
 
     # ------------------------------------------------------------ Tab as always
     select_mesh(ob)
