@@ -268,7 +268,7 @@ def write_markdown(result, md_path, plot_path, section="peers",
 Machine: {m['cpu']}, {m['cores']} cores, **shared with other work while this ran** (1-minute
 load average when each row finished is in bench/results/peers.json; {m.get('load_1min', 0):.1f}
 at the end), so absolute times are noisy; ratios compare runs made minutes apart in one
-invocation. Date: 2026-11-30, last invocation {m['date']}. Ours: solver `{bi.get('solver', '?')}`, OpenMP threads
+invocation. Date: {m['date']} (the last invocation). Ours: solver `{bi.get('solver', '?')}`, OpenMP threads
 {bi.get('threads', '?')}. Peers: {', '.join(versions)}; CGAL uses its default solver (Eigen
 SparseLU) on one thread.
 
