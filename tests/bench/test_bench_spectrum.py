@@ -22,8 +22,9 @@ def test_largest_modulus_is_the_observed_contraction(tmp_path):
     row = json.loads(out.read_text())["rows"][0]
     assert row["reference_converged"] and row["one_step_residual"] < 1e-9
     assert row["above_1"] == 0 and 0.5 < row["top"][0] < 1.0
-    assert "|" in bench_spectrum.markdown({"machine": {"cpu": "x", "cores": 2, "load_1min": 0.0,
-                                                       "date": "d"}, "steps": 40, "rows": [row]})
+    table = bench_spectrum.markdown({"machine": {"cpu": "x", "cores": 2, "load_1min": 0.0,
+                                                 "date": "d"}, "steps": 40, "rows": [row]})
+    assert f"| spot lift edge λ 0.5 | {row['free']:,} |" in table and f"{row['top'][0]:.4f}" in table
 
     # Perturb the fixed point and iterate plainly: the residual's asymptotic ratio per
     # iteration is the largest modulus of the map's Jacobian there.
