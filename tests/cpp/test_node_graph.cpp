@@ -4,7 +4,6 @@
 
 #include "edgedeform/cotangent.h"
 #include "edgedeform/node_graph.h"
-#include "edgedeform/stiffness.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;
@@ -111,16 +110,4 @@ TEST(NodeGraph, NodeMatrixTakesMidpoints) {
   EXPECT_LT((p - g.node_positions(m.V)).cwiseAbs().maxCoeff(), 1e-15);
   const auto gp = graph_of(m, Domain::Primal);
   EXPECT_LT((RowMatrixX3d(gp.node_matrix() * m.V) - m.V).cwiseAbs().maxCoeff(), 1e-15);
-}
-
-TEST(Stiffness, EdgeNodesTakeTheMeanOfTheirEndpoints) {
-  const auto m = test::grid(3, 3);
-  const auto g = graph_of(m, Domain::Edge);
-  Eigen::VectorXd lam = Eigen::VectorXd::LinSpaced(9, 0.0, 1.0);
-  const Eigen::VectorXd node = node_stiffness(g, lam);
-  for (int i = 0; i < g.n_nodes; ++i)
-    EXPECT_DOUBLE_EQ(node(i), 0.5 * (lam(g.node_vertices(i, 0)) + lam(g.node_vertices(i, 1))));
-  lam(4) = 1.5;
-  EXPECT_THROW(check_stiffness(lam, 9), std::invalid_argument);
-  EXPECT_THROW(check_stiffness(Eigen::VectorXd::Zero(8), 9), std::invalid_argument);
 }
