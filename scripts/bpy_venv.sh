@@ -8,9 +8,18 @@ set -euo pipefail
 build=$(realpath -m "$1")
 series=$2
 venv=$build/bpy_venvs/bpy-$series
-py=/usr/bin/python3   # bpy wheels are cp311; Debian's python3 is 3.11, like the module we build
 major=${series%%.*}
 minor=${series#*.}
+# Each bpy is built for the Python its Blender embeds: 4.2–5.0 are cp311, 5.1 and later cp313.
+if [ "$major" -lt 5 ] || { [ "$major" -eq 5 ] && [ "$minor" -lt 1 ]; }; then
+  python_version=3.11
+else
+  python_version=3.13
+fi
+if ! py=$(bash "$(dirname "$0")/find_python.sh" "$python_version"); then
+  echo "bpy_venv: Blender $series needs Python $python_version, which this machine lacks; skipping" >&2
+  exit 3
+fi
 spec="bpy>=$series.0,<$major.$((minor + 1))"
 
 ok() { "$venv/bin/python" -c "import bpy, sys; v = bpy.app.version; sys.exit(0 if '%d.%d' % v[:2] == '$series' else 1)" 2>/dev/null; }

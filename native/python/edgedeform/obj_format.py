@@ -13,6 +13,7 @@ every byte to one character, so unknown bytes are written back unchanged.
 
 import numpy as np
 
+from .number_text import floats_text
 from .polygons import accumulate_unit, face_normals
 
 
@@ -30,8 +31,7 @@ class ObjFile:
         """The file's text with new positions. Returns (text, notes)."""
         lines = list(self.lines)
         for i, (line_no, extra) in enumerate(zip(self.v_lines, self.v_extra)):
-            x, y, z = positions[i]
-            lines[line_no] = f"v {x!r} {y!r} {z!r}{extra}{_ending(lines[line_no])}"
+            lines[line_no] = f"v {floats_text(positions[i])}{extra}{_ending(lines[line_no])}"
         notes = []
         used = self.corner_normals >= 0
         if len(self.vn_lines) and used.any():
@@ -40,8 +40,7 @@ class ObjFile:
             old = np.array([[float(t) for t in lines[k].split()[1:4]] for k in self.vn_lines])
             new = accumulate_unit(self.corner_normals[used], N[face[used]], len(self.vn_lines), old)
             for j, line_no in enumerate(self.vn_lines):
-                x, y, z = new[j]
-                lines[line_no] = f"vn {x!r} {y!r} {z!r}{_ending(lines[line_no])}"
+                lines[line_no] = f"vn {floats_text(new[j])}{_ending(lines[line_no])}"
             notes.append("normals (vn) recomputed from the deformed faces")
         return "".join(lines), notes
 
@@ -110,7 +109,7 @@ def read(text):
 
 def write_plain(positions, sizes, corners):
     """A new OBJ file with only positions and faces."""
-    out = [f"v {x!r} {y!r} {z!r}\n" for x, y, z in positions]
+    out = [f"v {floats_text(p)}\n" for p in positions]
     ends = np.cumsum(sizes)
     one_based = (np.asarray(corners) + 1).astype(str)
     out += ["f " + " ".join(one_based[e - s:e]) + "\n" for s, e in zip(sizes, ends)]

@@ -10,6 +10,7 @@ every OFF writer we know produces; binary OFF and 4D/nD variants are refused by 
 
 import numpy as np
 
+from .number_text import float_text, floats_text
 from .polygons import vertex_normals
 
 
@@ -33,9 +34,9 @@ class OffFile:
             line = lines[line_no]
             data, comment = _data(line), line[len(_data(line)):].rstrip("\r\n")
             rest = data.split()[6 if self.has_normals else 3:]
-            new = [repr(float(c)) for c in positions[i]]
+            new = [float_text(c) for c in positions[i]]
             if normals is not None:
-                new += [repr(float(c)) for c in normals[i]]
+                new += [float_text(c) for c in normals[i]]
             lines[line_no] = " ".join(new + rest) + comment + _ending(line)
         return "".join(lines), notes
 
@@ -110,7 +111,7 @@ def read(text):
 
 def write_plain(positions, sizes, corners):
     out = ["OFF\n", f"{len(positions)} {len(sizes)} 0\n"]
-    out += [f"{x!r} {y!r} {z!r}\n" for x, y, z in positions]
+    out += [floats_text(p) + "\n" for p in positions]
     ends = np.cumsum(sizes)
     text = np.asarray(corners).astype(str)
     out += [f"{s} " + " ".join(text[e - s:e]) + "\n" for s, e in zip(sizes, ends)]

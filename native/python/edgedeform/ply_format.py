@@ -10,6 +10,7 @@ recomputed from the deformed faces (area-weighted vertex normals).
 
 import numpy as np
 
+from .number_text import float_text
 from .polygons import vertex_normals
 
 TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2",
@@ -78,7 +79,7 @@ class PlyFile:
 
 
 def _ascii_value(value, ptype):
-    return repr(float(value)) if ptype in ("f4", "f8") else str(int(round(value)))
+    return float_text(value) if ptype in ("f4", "f8") else str(int(round(value)))
 
 
 def _column(ply, element, name):
