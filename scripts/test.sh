@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Runs every test: C++ core (GoogleTest), the Python package (pytest), the Blender add-on
 # (background mode and a real window under Xvfb) and the demo, all through ctest.
-# Extra arguments go to ctest (e.g. -R pytest, -L blender).
+# Extra arguments go to ctest (e.g. -R pytest, -L blender). --quick runs only the fast tier
+# (ctest -L unit: the C++ unit tests and pytest, no Blender), for everyday work.
 set -euo pipefail
+if [ "${1:-}" = "--quick" ]; then shift; set -- -L unit "$@"; fi
 cd "$(dirname "$0")/.."
 # Debian's tools first: Debian's Blender finds its Python's home through PATH, so a pyenv or
 # conda python3 (or a pip-installed cmake/ctest wrapper that puts one first) breaks every
