@@ -49,6 +49,16 @@ void bind_deformer(py::module_& m) {
       .def_readonly("accelerated_steps", &SolveResult::accelerated_steps, "Anderson steps kept")
       .def_readonly("rejected_steps", &SolveResult::rejected_steps,
                     "Anderson steps discarded by the safeguard (the plain step was taken instead)")
+      .def_readonly("newton_steps", &SolveResult::newton_steps, "Newton-Krylov steps taken")
+      .def_readonly("krylov_iterations", &SolveResult::krylov_iterations,
+                    "products with the Newton operator over all Newton steps (each with one back-substitution)")
+      .def_readonly("line_search_failures", &SolveResult::line_search_failures,
+                    "Newton steps whose line search failed (plain steps were taken instead)")
+      .def_readonly("coarse_dimension", &SolveResult::coarse_dimension, "unknowns of the coarse space (0: none)")
+      .def_readonly("coarse_factorizations", &SolveResult::coarse_factorizations, "coarse operators factored")
+      .def_readonly("linearize_ms", &SolveResult::linearize_ms, "total ms linearizing the local fit (Newton)")
+      .def_readonly("coarse_ms", &SolveResult::coarse_ms, "total ms assembling and factoring coarse operators (Newton)")
+      .def_readonly("krylov_ms", &SolveResult::krylov_ms, "total ms in the Krylov solves (Newton)")
       .def_readonly("warnings", &SolveResult::warnings,
                     "list[str]: not converged, vertices kept at rest, torn seams, ...")
       .def_readonly("factor_ms", &SolveResult::factor_ms, "assembly + factorization in this call (0 when reused)")
@@ -118,7 +128,8 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
       .def(
           "solve",
           [](Deformer& d, const TargetsArg& targets_arg, int max_iterations, double tolerance, bool warm_start,
-             const OptionalPointsArg& initial_arg, const std::string& acceleration, int anderson_window) {
+             const OptionalPointsArg& initial_arg, const std::string& acceleration, int anderson_window,
+             int krylov_iterations, int coarse_patches) {
             const py::handle& targets = targets_arg.obj;
             const py::handle& initial = initial_arg.obj;
             SolveOptions o;
@@ -127,6 +138,8 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
             o.warm_start = warm_start;
             o.acceleration = parse_acceleration(acceleration);
             o.anderson_window = anderson_window;
+            o.krylov_iterations = krylov_iterations;
+            o.coarse_patches = coarse_patches;
             if (!initial.is_none()) o.initial = to_points(initial, "initial");
             RowMatrixX3d t = to_points(targets, "targets");
             SignalCheck signals;
@@ -140,7 +153,10 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
           },
           py::arg("targets"), py::arg("max_iterations") = SolveOptions{}.max_iterations,
           py::arg("tolerance") = SolveOptions{}.tolerance, py::arg("warm_start") = true, py::arg("initial") = py::none(),
-          py::arg("acceleration") = "anderson", py::arg("anderson_window") = SolveOptions{}.anderson_window,
+          py::arg("acceleration") = acceleration_name(SolveOptions{}.acceleration),
+          py::arg("anderson_window") = SolveOptions{}.anderson_window,
+          py::arg("krylov_iterations") = SolveOptions{}.krylov_iterations,
+          py::arg("coarse_patches") = SolveOptions{}.coarse_patches,
           R"doc(Deforms the mesh so that the handles reach their targets.
 
 targets: (h, 3) one target per handle, in the order given to set_constraints.
@@ -151,8 +167,12 @@ warm_start: start from the previous solve's shape; with unchanged targets this c
     the same iteration (Anderson history included), so repeated short calls settle on the
     cold solve's shape.
 initial: (n, 3) positions to start from instead (a local step on them first), or None.
-acceleration: "anderson" (default, same fixed point in fewer iterations) or "none".
+acceleration: "newton" (default: Newton-Krylov steps with a coarse space), "anderson" or
+    "none" (the plain local/global method); all reach the same fixed points.
 anderson_window: how many past iterates Anderson acceleration combines (1..50).
+krylov_iterations: most Krylov products per Newton step (1..500).
+coarse_patches: about how many patches the Newton preconditioner's coarse space has
+    (0: none; 0..5000).
 Returns a SolveResult. Ctrl-C raises KeyboardInterrupt between iterations and leaves the
 Deformer usable.)doc")
       .def(
@@ -195,7 +215,22 @@ Deformer usable.)doc")
           "node_stiffness", [](const Deformer& d) { return Eigen::VectorXd(d.node_lambda()); },
           "(n_nodes,) float64 lambda per node under the current stiffness")
       .def("_laplacian_coo", [](const Deformer& d) { return to_coo(d.graph().laplacian()); })
-      .def("_node_matrix_coo", [](const Deformer& d) { return to_coo(d.graph().node_matrix()); });
+      .def("_node_matrix_coo", [](const Deformer& d) { return to_coo(d.graph().node_matrix()); })
+      // Newton-Krylov inspection (tests and bench/): vectors over the free vertices.
+      .def_property_readonly("free_vertices", [](const Deformer& d) { return d.free_vertices(); },
+                             "list[int]: the free vertices of the current constraints, in the order of the "
+                             "free-vertex vectors of _one_step and _jacobian")
+      .def("_one_step", [](Deformer& d, const py::handle& X) { return d.one_step_map(to_points(X, "X")); },
+           "G(X) over the free vertices (#free, 3)")
+      .def("_jacobian",
+           [](Deformer& d, const py::handle& X, const Eigen::MatrixXd& dX, bool newton_operator) {
+             return d.jacobian_product(to_points(X, "X"), dX, newton_operator);
+           },
+           py::arg("X"), py::arg("dX"), py::arg("newton_operator") = false,
+           "J_G dX at X (analytic), or K dX = A (I - J_G) dX with newton_operator")
+      .def("_coarse_basis_coo", [](Deformer& d, int patches) { return to_coo(d.coarse_basis_matrix(patches)); })
+      .def("_coarse_operator_coo",
+           [](Deformer& d, const py::handle& X, int patches) { return to_coo(d.coarse_operator_at(to_points(X, "X"), patches)); });
 }
 
 }  // namespace edgedeform::bindings

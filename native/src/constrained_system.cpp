@@ -182,6 +182,13 @@ ConstrainedSystem constrained_layout(const NodeGraph& g, const RowMatrixX3d& res
   return sys;
 }
 
+void stencil_node_positions(const ConstrainedSystem& sys, const RowMatrixX3d& x_local, RowMatrixX3d& p) {
+  const Eigen::Index n = sys.stencil_node_vertices.rows();
+  p.resize(n, 3);
+  for (Eigen::Index s = 0; s < n; ++s)
+    p.row(s) = 0.5 * (x_local.row(sys.stencil_node_vertices(s, 0)) + x_local.row(sys.stencil_node_vertices(s, 1)));
+}
+
 void add_jacobians(ConstrainedSystem& sys) {
   // J1 (arc differences), J2 (Laplacian rows) in local ids.
   const NodeStencil& st = sys.stencil;

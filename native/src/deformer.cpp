@@ -22,14 +22,6 @@ double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// Positions of the stencil nodes from the local vertex positions (free, then fixed).
-void stencil_node_positions(const ConstrainedSystem& sys, const RowMatrixX3d& x_local, RowMatrixX3d& p) {
-  const Eigen::Index n = sys.stencil_node_vertices.rows();
-  p.resize(n, 3);
-  for (Eigen::Index s = 0; s < n; ++s)
-    p.row(s) = 0.5 * (x_local.row(sys.stencil_node_vertices(s, 0)) + x_local.row(sys.stencil_node_vertices(s, 1)));
-}
-
 void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX3d& targets, const SolveOptions& o,
                            const SafeRange& range) {
   if (targets.rows() != static_cast<Eigen::Index>(sys.handles.size()))
@@ -39,6 +31,10 @@ void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX
   check_distance(targets, range.center, range.limit, "targets");
   if (o.anderson_window < 1 || o.anderson_window > 50)
     throw std::invalid_argument("anderson_window must be in [1, 50], got " + std::to_string(o.anderson_window));
+  if (o.krylov_iterations < 1 || o.krylov_iterations > 500)
+    throw std::invalid_argument("krylov_iterations must be in [1, 500], got " + std::to_string(o.krylov_iterations));
+  if (o.coarse_patches < 0 || o.coarse_patches > 5000)
+    throw std::invalid_argument("coarse_patches must be in [0, 5000], got " + std::to_string(o.coarse_patches));
   if (o.max_iterations < 1)
     throw std::invalid_argument("max_iterations must be at least 1, got " + std::to_string(o.max_iterations));
   if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance))
@@ -58,12 +54,20 @@ constexpr double kResidualSlack = 2.0;
 
 }  // namespace
 
-const char* acceleration_name(Acceleration a) { return a == Acceleration::Anderson ? "anderson" : "none"; }
+const char* acceleration_name(Acceleration a) {
+  switch (a) {
+    case Acceleration::Newton: return "newton";
+    case Acceleration::Anderson: return "anderson";
+    case Acceleration::None: break;
+  }
+  return "none";
+}
 
 Acceleration parse_acceleration(const std::string& name) {
+  if (name == "newton") return Acceleration::Newton;
   if (name == "anderson") return Acceleration::Anderson;
   if (name == "none") return Acceleration::None;
-  throw std::invalid_argument("acceleration must be \"anderson\" or \"none\", got \"" + name + "\"");
+  throw std::invalid_argument("acceleration must be \"newton\", \"anderson\" or \"none\", got \"" + name + "\"");
 }
 
 Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, bool clamp_negative_weights) {
@@ -108,6 +112,8 @@ void Deformer::set_constraints(const ConstraintSets& sets) {
   if (!within_base) make_base(system_);
   assembled_.reset();
   iter_.positions_valid = false;  // the free vertices changed
+  coarse_basis_.reset();
+  coarse_stiffness_valid_ = false;
 }
 
 void Deformer::make_base(std::shared_ptr<const ConstrainedSystem> whole) {
@@ -185,6 +191,7 @@ void Deformer::ensure_factored(SolveResult& result) {
   assembled_ = std::move(assembled);
   stiffness_changed_ = false;
   iter_.continuable = false;  // a new system: a new map G
+  coarse_stiffness_valid_ = false;
   result.factor_ms = ms_since(start);
 }
 
@@ -298,7 +305,10 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
     it.continuable = true;
   }
 
-  iterate(options, c, x_local, fit, result);
+  if (options.acceleration == Acceleration::Newton)
+    iterate_newton(options, c, x_local, fit, result);
+  else
+    iterate(options, c, x_local, fit, result);
 
   for (int k = 0; k < nf; ++k) result.positions.row(sys.free_vertices[static_cast<size_t>(k)]) = it.y.row(k);
   it.positions_valid = true;

@@ -1,6 +1,8 @@
 #include "edgedeform/rotation_operator.h"
 
 #include <stdexcept>
+
+#include <Eigen/Geometry>
 #include <string>
 
 #include "edgedeform/parallel.h"
@@ -117,6 +119,34 @@ void RotationOperator::apply(const std::vector<Eigen::Matrix3d>& rotation, const
         sum.noalias() += rotation[t] * g;
       }
       y.row(r) = sum.transpose();
+    }
+  });
+}
+
+void RotationOperator::block_vectors(int block, double s, Eigen::Vector3d& g, Eigen::Vector3d& k) const {
+  const auto t = static_cast<size_t>(term_[static_cast<size_t>(block)]);
+  const Eigen::Map<const Eigen::Vector3d> h_R(&coef_[6 * static_cast<size_t>(block)]), h_T(&coef_[6 * static_cast<size_t>(block) + 3]);
+  const double smooth = 1.0 - lambda_[t] - similar_[t];
+  g = (lambda_[t] + similar_[t] * s) * h_R + smooth * s * h_T;
+  k = similar_[t] * h_R + smooth * h_T;
+}
+
+void RotationOperator::apply_derivative(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
+                                        const RowMatrixX3d& omega, const Eigen::VectorXd& dscale,
+                                        Eigen::MatrixXd& dy) const {
+  const int n = rows();
+  dy.resize(n, 3);
+  parallel_for(n, kRowsPerChunk, kMinParallelRows, [&](int begin, int end) {
+    Eigen::Vector3d g, k;
+    for (int r = begin; r < end; ++r) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (int b = offsets_[static_cast<size_t>(r)]; b < offsets_[static_cast<size_t>(r) + 1]; ++b) {
+        const int t = term_[static_cast<size_t>(b)];
+        block_vectors(b, scale(t), g, k);
+        const Eigen::Matrix3d& R = rotation[static_cast<size_t>(t)];
+        sum.noalias() += omega.row(t).transpose().cross(R * g) + dscale(t) * (R * k);
+      }
+      dy.row(r) = sum.transpose();
     }
   });
 }

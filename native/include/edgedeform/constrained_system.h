@@ -62,6 +62,10 @@ ConstrainedSystem constrained_layout(const NodeGraph& graph, const RowMatrixX3d&
                                      const RowMatrixX2i& mesh_edges, const std::vector<bool>& referenced,
                                      const ConstraintSets& sets);
 
+// Positions of the stencil nodes (#stencil nodes x 3) from local vertex positions
+// (free, then fixed): each node is the mean of its two vertex slots.
+void stencil_node_positions(const ConstrainedSystem& system, const RowMatrixX3d& x_local, RowMatrixX3d& p);
+
 // J1f, J1c, J2f, J2c of a layout.
 void add_jacobians(ConstrainedSystem& system);
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "edgedeform/anderson.h"
+#include "edgedeform/coarse_space.h"
 #include "edgedeform/constrained_system.h"
 #include "edgedeform/convergence.h"
 #include "edgedeform/edge_topology.h"
@@ -21,9 +22,9 @@
 
 namespace edgedeform {
 
-enum class Acceleration { None, Anderson };
+enum class Acceleration { None, Anderson, Newton };
 const char* acceleration_name(Acceleration a);
-// "none" | "anderson"; anything else throws std::invalid_argument.
+// "none" | "anderson" | "newton"; anything else throws std::invalid_argument.
 Acceleration parse_acceleration(const std::string& name);
 
 struct SolveOptions {
@@ -35,6 +36,10 @@ struct SolveOptions {
   std::optional<RowMatrixX3d> initial;  // start with a local step on these positions
   Acceleration acceleration = Acceleration::Anderson;
   int anderson_window = 5;
+  // Newton-Krylov (newton_krylov.h): most Krylov products per Newton step, and about how
+  // many patches the coarse space has (0: none, the one-level preconditioner).
+  int krylov_iterations = 30;
+  int coarse_patches = 200;
   // Asked once per iteration (called from the solving thread); returning true stops the
   // solve with SolveInterrupted. The Python bindings check for Ctrl-C here, so the core
   // needs no Python.
@@ -50,6 +55,10 @@ struct SolveResult {
   std::vector<double> residuals;
   double distance_estimate = 0.0;               // of the result to the fixed point, / diag
   int accelerated_steps = 0, rejected_steps = 0;  // Anderson steps taken; discarded by the safeguard
+  int newton_steps = 0, krylov_iterations = 0;  // Newton-Krylov: steps, products with K in all
+  int line_search_failures = 0;                 // Newton steps that gave way to plain steps
+  int coarse_factorizations = 0, coarse_dimension = 0;  // of the coarse space (0: none)
+  double linearize_ms = 0.0, coarse_ms = 0.0, krylov_ms = 0.0;  // Newton-Krylov totals
   std::optional<double> initial_energy;         // energy of `initial`, when given
   bool converged = false;
   std::vector<std::string> warnings;
@@ -78,6 +87,17 @@ class Deformer {
   // Energy of positions X over every node, with R_i, s_i fitted to X.
   double energy(const RowMatrixX3d& X) const;
 
+  // Inspection of the Newton-Krylov pieces (tests, diagnostics). X (#V x 3) is a full shape
+  // whose constrained rows give the fixed vertices; vectors are over the free vertices
+  // (#free x 3, in free_vertices() order). Each factors the system first if needed.
+  Eigen::MatrixXd one_step_map(const RowMatrixX3d& X);  // G(X)
+  // J_G dX, or K dX = A (I - J_G) dX with `newton_operator`.
+  Eigen::MatrixXd jacobian_product(const RowMatrixX3d& X, const Eigen::MatrixXd& dX, bool newton_operator);
+  // U (3 #free x k; row v + #free c is coordinate c of free vertex v), and U^T K U at X.
+  SparseMatrix coarse_basis_matrix(int patches);
+  SparseMatrix coarse_operator_at(const RowMatrixX3d& X, int patches);
+  const std::vector<int>& free_vertices() const;
+
   int n_vertices() const { return static_cast<int>(rest_.rows()); }
   int n_faces() const { return static_cast<int>(faces_.rows()); }
   Domain domain() const { return graph_.domain; }
@@ -97,6 +117,9 @@ class Deformer {
 
  private:
   void ensure_factored(SolveResult& result);
+  // For the inspection calls: factors if needed, fits the local step at X's free rows and
+  // returns the fixed vertices' share c; x_local and fit hold the point.
+  Eigen::MatrixXd prepare_point(const RowMatrixX3d& X, RowMatrixX3d& x_local, LocalFit& fit);
   // The operators of system_ at node_lambda_: the base set's, or restricted from them.
   std::shared_ptr<const AssembledSystem> current_operators();
   // system_ with J1, J2 becomes the base set; its operators are assembled on first use.
@@ -114,6 +137,13 @@ class Deformer {
   // The local/global loop of DESIGN §2 (with Anderson acceleration unless disabled).
   void iterate(const SolveOptions& options, const Eigen::MatrixXd& c, RowMatrixX3d& x_local, LocalFit& fit,
                SolveResult& result);
+  // The same fixed point by Newton-Krylov steps (newton_krylov.h).
+  void iterate_newton(const SolveOptions& options, const Eigen::MatrixXd& c, RowMatrixX3d& x_local, LocalFit& fit,
+                      SolveResult& result);
+  // The coarse space of the current constraint set and U^T A U at the current operators,
+  // built on first use; null for none (patches = 0 or too few free vertices).
+  const CoarseBasis* coarse_basis(int patches);
+  const SparseMatrix& coarse_stiffness_matrix();
   // One global step: G's image of the fit, written to g (free vertices).
   void global_step(const LocalFit& fit, const Eigen::MatrixXd& c, Eigen::MatrixXd& g, SolveResult& result);
   // One local step on free positions y (fixed rows of x_local already set).
@@ -184,6 +214,12 @@ class Deformer {
   std::vector<double> rhs_term_weights_;  // RotationOperator::apply scratch
   RowMatrixX3d node_positions_;    // local-step scratch
   mutable std::unique_ptr<NodeStencil> full_stencil_;  // for energy(), built on first use
+  // The coarse space: its basis per constraint set (and patch count), U^T A U per factored
+  // operators. Stale when the constraints (basis) or the operators (stiffness) change.
+  std::shared_ptr<const CoarseBasis> coarse_basis_;
+  int coarse_basis_patches_ = -1;
+  SparseMatrix coarse_stiffness_;
+  bool coarse_stiffness_valid_ = false;
   // The bindings release the GIL: two Python threads sharing a Deformer take turns here.
   mutable std::mutex mutex_;
 };

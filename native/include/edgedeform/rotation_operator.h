@@ -47,6 +47,21 @@ class RotationOperator {
     apply(rotation, scale, c, y, term_weights);
   }
 
+  // The derivative of apply() along a change of the fit: omega_t (#terms x 3, the rotation
+  // change dR_t = [omega_t]x R_t) and ds_t (#terms) give, per row,
+  //     dy_r = sum_blocks omega_t x (R_t g) + ds_t R_t k,
+  //     g = (lambda_t + phi_t s_t) h_R + (1 - lambda_t - phi_t) s_t h_T,  k = phi_t h_R + (1 - lambda_t - phi_t) h_T
+  // (local_fit_derivative.h). The Newton-Krylov step's d(rhs)/dx, one pass over the blocks.
+  void apply_derivative(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
+                        const RowMatrixX3d& omega, const Eigen::VectorXd& dscale, Eigen::MatrixXd& dy) const;
+
+  // One block's two vectors at the current stiffness: g (what R_t multiplies) and k (what
+  // ds_t R_t multiplies), as in apply_derivative.
+  void block_vectors(int block, double scale, Eigen::Vector3d& g, Eigen::Vector3d& k) const;
+  // Blocks of row r: offsets()[r] .. offsets()[r+1), each with its term.
+  const std::vector<int>& offsets() const { return offsets_; }
+  int block_term(int block) const { return term_[static_cast<size_t>(block)]; }
+
   int rows() const { return static_cast<int>(offsets_.size()) - 1; }
   int blocks() const { return static_cast<int>(term_.size()); }
   int terms() const { return static_cast<int>(lambda_.size()); }

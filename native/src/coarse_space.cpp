@@ -1,0 +1,365 @@
+#include "edgedeform/coarse_space.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <queue>
+#include <utility>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/SparseLU>
+
+#include "edgedeform/parallel.h"
+
+namespace edgedeform {
+
+namespace {
+
+// A principal axis whose spread is below this fraction of the patch's largest is flat: its
+// function would be round-off of the others.
+constexpr double kFlatAxis = 1e-2;
+
+struct FreeGraph {
+  std::vector<int> offsets, adjacency;
+  std::vector<double> length;
+};
+
+FreeGraph free_vertex_graph(const ConstrainedSystem& sys, const RowMatrixX3d& rest, const RowMatrixX2i& edges) {
+  const int nf = sys.n_free();
+  std::vector<int> local(static_cast<size_t>(sys.n_vertices), -1);
+  for (int k = 0; k < nf; ++k) local[static_cast<size_t>(sys.free_vertices[static_cast<size_t>(k)])] = k;
+  FreeGraph g;
+  g.offsets.assign(static_cast<size_t>(nf) + 1, 0);
+  std::vector<std::pair<int, int>> pairs;
+  for (Eigen::Index e = 0; e < edges.rows(); ++e) {
+    const int a = local[static_cast<size_t>(edges(e, 0))], b = local[static_cast<size_t>(edges(e, 1))];
+    if (a < 0 || b < 0 || a == b) continue;
+    pairs.emplace_back(a, b);
+    ++g.offsets[static_cast<size_t>(a) + 1];
+    ++g.offsets[static_cast<size_t>(b) + 1];
+  }
+  for (int v = 0; v < nf; ++v) g.offsets[static_cast<size_t>(v) + 1] += g.offsets[static_cast<size_t>(v)];
+  g.adjacency.resize(static_cast<size_t>(g.offsets.back()));
+  g.length.resize(g.adjacency.size());
+  std::vector<int> cursor(g.offsets.begin(), g.offsets.end() - 1);
+  for (const auto& [a, b] : pairs) {
+    const double len = (rest.row(sys.free_vertices[static_cast<size_t>(a)]) - rest.row(sys.free_vertices[static_cast<size_t>(b)])).norm();
+    const auto ia = static_cast<size_t>(cursor[static_cast<size_t>(a)]++), ib = static_cast<size_t>(cursor[static_cast<size_t>(b)]++);
+    g.adjacency[ia] = b;
+    g.length[ia] = len;
+    g.adjacency[ib] = a;
+    g.length[ib] = len;
+  }
+  return g;
+}
+
+// Farthest-point seeds, each claiming the vertices closer to it than to any earlier seed
+// (Dijkstra from each new seed, visiting only the vertices it takes over).
+std::vector<int> grow_patches(const FreeGraph& g, int nf, int n_patches, int& made) {
+  std::vector<double> dist(static_cast<size_t>(nf), std::numeric_limits<double>::infinity());
+  std::vector<int> patch(static_cast<size_t>(nf), -1);
+  using Entry = std::pair<double, int>;
+  made = 0;
+  for (int p = 0; p < n_patches; ++p) {
+    int seed = -1;
+    double farthest = -1.0;
+    for (int v = 0; v < nf; ++v)  // the lowest index among ties: deterministic
+      if (dist[static_cast<size_t>(v)] > farthest) {
+        farthest = dist[static_cast<size_t>(v)];
+        seed = v;
+      }
+    if (seed < 0 || farthest == 0.0) break;  // every vertex is a seed already
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+    dist[static_cast<size_t>(seed)] = 0.0;
+    patch[static_cast<size_t>(seed)] = p;
+    queue.emplace(0.0, seed);
+    while (!queue.empty()) {
+      const auto [d, v] = queue.top();
+      queue.pop();
+      if (d > dist[static_cast<size_t>(v)]) continue;
+      for (int k = g.offsets[static_cast<size_t>(v)]; k < g.offsets[static_cast<size_t>(v) + 1]; ++k) {
+        const int u = g.adjacency[static_cast<size_t>(k)];
+        const double du = d + g.length[static_cast<size_t>(k)];
+        if (du < dist[static_cast<size_t>(u)]) {
+          dist[static_cast<size_t>(u)] = du;
+          patch[static_cast<size_t>(u)] = p;
+          queue.emplace(du, u);
+        }
+      }
+    }
+    ++made;
+  }
+  return patch;
+}
+
+}  // namespace
+
+CoarseBasis build_coarse_basis(const ConstrainedSystem& sys, const RowMatrixX3d& rest, const RowMatrixX2i& edges,
+                               int target_patches) {
+  CoarseBasis basis;
+  const int nf = sys.n_free();
+  const int n_patches = std::min(target_patches, nf / kMinPatchVertices);
+  if (n_patches < 1) return basis;  // too small for a coarse space: the caller goes without
+  const FreeGraph graph = free_vertex_graph(sys, rest, edges);
+  int made = 0;
+  basis.patch = grow_patches(graph, nf, n_patches, made);
+  // Vertices no seed reached (more free components than patches) join the last patch
+  // alone; their component then moves by that patch's functions, which is still a span.
+  for (int& p : basis.patch)
+    if (p < 0) p = std::max(made - 1, 0);
+  basis.n_patches = std::max(made, 1);
+  const auto P = static_cast<size_t>(basis.n_patches);
+  basis.centre.assign(P, Eigen::Vector3d::Zero());
+  basis.axes.assign(P, Eigen::Matrix3d::Identity());
+  basis.scale.assign(P, Eigen::Vector3d::Ones());
+  basis.functions.assign(P, 1);
+  std::vector<int> count(P, 0);
+  for (int v = 0; v < nf; ++v) {
+    const auto p = static_cast<size_t>(basis.patch[static_cast<size_t>(v)]);
+    basis.centre[p] += rest.row(sys.free_vertices[static_cast<size_t>(v)]).transpose();
+    ++count[p];
+  }
+  std::vector<Eigen::Matrix3d> covariance(P, Eigen::Matrix3d::Zero());
+  for (size_t p = 0; p < P; ++p)
+    if (count[p] > 0) basis.centre[p] /= count[p];
+  for (int v = 0; v < nf; ++v) {
+    const auto p = static_cast<size_t>(basis.patch[static_cast<size_t>(v)]);
+    const Eigen::Vector3d d = rest.row(sys.free_vertices[static_cast<size_t>(v)]).transpose() - basis.centre[p];
+    covariance[p].noalias() += d * d.transpose();
+  }
+  for (size_t p = 0; p < P; ++p) {
+    if (count[p] == 0) continue;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(covariance[p] / count[p]);
+    const Eigen::Vector3d spread = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();  // ascending
+    const double largest = spread(2);
+    int kept = 0;
+    for (int axis = 2; axis >= 0; --axis)  // largest first
+      if (largest > 0.0 && spread(axis) > kFlatAxis * largest) {
+        basis.axes[p].col(kept) = eig.eigenvectors().col(axis);
+        basis.scale[p](kept) = spread(axis);
+        ++kept;
+      }
+    basis.functions[p] = 1 + kept;
+  }
+  basis.offset.assign(P + 1, 0);
+  for (size_t p = 0; p < P; ++p) basis.offset[p + 1] = basis.offset[p] + 3 * basis.functions[p];
+  basis.value.assign(static_cast<size_t>(nf), Eigen::Vector4d::Zero());
+  for (int v = 0; v < nf; ++v) {
+    const auto p = static_cast<size_t>(basis.patch[static_cast<size_t>(v)]);
+    const Eigen::Vector3d d = rest.row(sys.free_vertices[static_cast<size_t>(v)]).transpose() - basis.centre[p];
+    Eigen::Vector4d& phi = basis.value[static_cast<size_t>(v)];
+    phi(0) = 1.0;
+    for (int f = 1; f < basis.functions[p]; ++f) phi(f) = d.dot(basis.axes[p].col(f - 1)) / basis.scale[p](f - 1);
+  }
+  return basis;
+}
+
+void restrict_to_coarse(const CoarseBasis& b, const Eigen::MatrixXd& x, Eigen::VectorXd& q) {
+  q.setZero(b.dimension());
+  for (Eigen::Index v = 0; v < x.rows(); ++v) {
+    const auto p = static_cast<size_t>(b.patch[static_cast<size_t>(v)]);
+    const Eigen::Vector4d& phi = b.value[static_cast<size_t>(v)];
+    for (int f = 0; f < b.functions[p]; ++f)
+      for (int c = 0; c < 3; ++c) q(b.offset[p] + 3 * f + c) += phi(f) * x(v, c);
+  }
+}
+
+void prolong_from_coarse(const CoarseBasis& b, const Eigen::VectorXd& q, Eigen::MatrixXd& x) {
+  const auto nf = static_cast<Eigen::Index>(b.patch.size());
+  x.setZero(nf, 3);
+  for (Eigen::Index v = 0; v < nf; ++v) {
+    const auto p = static_cast<size_t>(b.patch[static_cast<size_t>(v)]);
+    const Eigen::Vector4d& phi = b.value[static_cast<size_t>(v)];
+    for (int f = 0; f < b.functions[p]; ++f)
+      for (int c = 0; c < 3; ++c) x(v, c) += phi(f) * q(b.offset[p] + 3 * f + c);
+  }
+}
+
+SparseMatrix coarse_stiffness(const CoarseBasis& b, const SparseMatrix& A) {
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(static_cast<size_t>(A.nonZeros()) * 12);
+  for (int w = 0; w < A.outerSize(); ++w) {
+    const auto q = static_cast<size_t>(b.patch[static_cast<size_t>(w)]);
+    for (SparseMatrix::InnerIterator it(A, w); it; ++it) {
+      const auto v = static_cast<size_t>(it.row());
+      const auto p = static_cast<size_t>(b.patch[v]);
+      for (int f = 0; f < b.functions[p]; ++f)
+        for (int g = 0; g < b.functions[q]; ++g) {
+          const double value = b.value[v](f) * it.value() * b.value[static_cast<size_t>(w)](g);
+          for (int c = 0; c < 3; ++c) entries.emplace_back(b.offset[p] + 3 * f + c, b.offset[q] + 3 * g + c, value);
+        }
+    }
+  }
+  SparseMatrix C(b.dimension(), b.dimension());
+  C.setFromTriplets(entries.begin(), entries.end());  // duplicates summed in entry order
+  return C;
+}
+
+namespace {
+
+using Block = Eigen::Matrix<double, 12, 12>;
+using PatchPair = std::pair<int, int>;
+// Terms per chunk of the coarse assembly: chunks are fixed, so partial sums (merged in chunk
+// order) do not depend on how many threads ran them.
+constexpr int kCoarseChunk = 4096;
+
+// Per term: the free vertices its fit reads, with the covariance vector m_w that a unit
+// move of each carries (dS = m_w dx_w^T).
+void term_inputs(const ConstrainedSystem& sys, int t, std::vector<int>& vertex, std::vector<Eigen::Vector3d>& m) {
+  const NodeStencil& st = sys.stencil;
+  const int nf = sys.n_free();
+  vertex.clear();
+  m.clear();
+  auto add = [&](int node, const Eigen::Vector3d& weight) {
+    for (int slot = 0; slot < 2; ++slot) {
+      const int w = sys.stencil_node_vertices(node, slot);
+      if (w >= nf) continue;  // a fixed vertex does not move
+      size_t k = 0;
+      while (k < vertex.size() && vertex[k] != w) ++k;
+      if (k == vertex.size()) {
+        vertex.push_back(w);
+        m.push_back(Eigen::Vector3d::Zero());
+      }
+      m[k] += 0.5 * weight;
+    }
+  };
+  const int self = st.self[static_cast<size_t>(t)];
+  add(self, st.rest_laplacian.row(t).transpose());
+  for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a)
+    add(st.neighbour[static_cast<size_t>(a)], -st.weight[static_cast<size_t>(a)] * st.rest_edge.row(a).transpose());
+}
+
+}  // namespace
+
+SparseMatrix coarse_operator(const CoarseBasis& b, const SparseMatrix& coarse_A, const FixedPointLinearization& lin) {
+  const ConstrainedSystem& sys = lin.system();
+  const RotationOperator& H = lin.assembled().H;
+  const LocalFit& fit = lin.fit();
+  const FitLinearization& fl = lin.fit_linearization();
+  const int T = sys.n_terms(), nf = sys.n_free();
+  // Term-major view of the operator's blocks (its rows are vertices).
+  std::vector<int> term_offset(static_cast<size_t>(T) + 1, 0), term_block, block_row(static_cast<size_t>(H.blocks()));
+  for (int r = 0; r < nf; ++r)
+    for (int k = H.offsets()[static_cast<size_t>(r)]; k < H.offsets()[static_cast<size_t>(r) + 1]; ++k) {
+      block_row[static_cast<size_t>(k)] = r;
+      ++term_offset[static_cast<size_t>(H.block_term(k)) + 1];
+    }
+  for (int t = 0; t < T; ++t) term_offset[static_cast<size_t>(t) + 1] += term_offset[static_cast<size_t>(t)];
+  term_block.resize(static_cast<size_t>(H.blocks()));
+  {
+    std::vector<int> cursor(term_offset.begin(), term_offset.end() - 1);
+    for (int k = 0; k < H.blocks(); ++k) term_block[static_cast<size_t>(cursor[static_cast<size_t>(H.block_term(k))]++)] = k;
+  }
+
+  const int n_chunks = (T + kCoarseChunk - 1) / kCoarseChunk;
+  std::vector<std::map<PatchPair, Block>> partial(static_cast<size_t>(n_chunks));
+  parallel_for(n_chunks, 1, 2, [&](int chunk_begin, int chunk_end) {
+    std::vector<int> vertex;
+    std::vector<Eigen::Vector3d> m;
+    std::vector<std::pair<int, Eigen::Matrix<double, 4, 12>>> in_patch;   // U restricted, through the fit's response
+    std::vector<std::pair<int, Eigen::Matrix<double, 12, 4>>> out_patch;  // U^T of the right side's response
+    for (int chunk = chunk_begin; chunk < chunk_end; ++chunk) {
+      std::map<PatchPair, Block>& sum = partial[static_cast<size_t>(chunk)];
+      const int t_end = std::min(T, (chunk + 1) * kCoarseChunk);
+      for (int t = chunk * kCoarseChunk; t < t_end; ++t) {
+        if (!(sys.stencil.rest_norm(t) > 0.0)) continue;
+        const Eigen::Matrix3d& R = fit.rotation[static_cast<size_t>(t)];
+        term_inputs(sys, t, vertex, m);
+        in_patch.clear();
+        for (size_t k = 0; k < vertex.size(); ++k) {
+          const int w = vertex[k];
+          const int q = b.patch[static_cast<size_t>(w)];
+          size_t slot = 0;
+          while (slot < in_patch.size() && in_patch[slot].first != q) ++slot;
+          if (slot == in_patch.size()) in_patch.emplace_back(q, Eigen::Matrix<double, 4, 12>::Zero());
+          for (int c = 0; c < 3; ++c) {  // response to dx_w = e_c
+            const Eigen::Matrix3d dS = m[k] * Eigen::RowVector3d::Unit(c);
+            Eigen::Vector3d omega;
+            double ds = 0.0;
+            fit_response(R, fl.omega_map[static_cast<size_t>(t)], fl.scale_gain(t), dS, omega, ds);
+            const Eigen::Vector4d response(omega(0), omega(1), omega(2), ds);
+            for (int f = 0; f < b.functions[static_cast<size_t>(q)]; ++f)
+              in_patch[slot].second.col(3 * f + c) += b.value[static_cast<size_t>(w)](f) * response;
+          }
+        }
+        out_patch.clear();
+        for (int k = term_offset[static_cast<size_t>(t)]; k < term_offset[static_cast<size_t>(t) + 1]; ++k) {
+          const int block = term_block[static_cast<size_t>(k)];
+          const int r = block_row[static_cast<size_t>(block)];
+          Eigen::Vector3d g, kv;
+          H.block_vectors(block, fit.scale(t), g, kv);
+          const Eigen::Vector3d Rg = R * g, Rk = R * kv;
+          Eigen::Matrix<double, 3, 4> O;  // d rhs_r = omega x (R g) + ds R k
+          O << 0, Rg(2), -Rg(1), Rk(0),   //
+              -Rg(2), 0, Rg(0), Rk(1),    //
+              Rg(1), -Rg(0), 0, Rk(2);
+          const int p = b.patch[static_cast<size_t>(r)];
+          size_t slot = 0;
+          while (slot < out_patch.size() && out_patch[slot].first != p) ++slot;
+          if (slot == out_patch.size()) out_patch.emplace_back(p, Eigen::Matrix<double, 12, 4>::Zero());
+          for (int f = 0; f < b.functions[static_cast<size_t>(p)]; ++f)
+            out_patch[slot].second.middleRows<3>(3 * f) += b.value[static_cast<size_t>(r)](f) * O;
+        }
+        for (const auto& [p, out] : out_patch)
+          for (const auto& [q, in] : in_patch) {
+            auto [entry, fresh] = sum.try_emplace(PatchPair(p, q));
+            if (fresh) entry->second.setZero();
+            entry->second.noalias() -= out * in;
+          }
+      }
+    }
+  });
+  std::map<PatchPair, Block> total;
+  for (const auto& chunk : partial)
+    for (const auto& [key, block] : chunk) {
+      auto [entry, fresh] = total.try_emplace(key, block);
+      if (!fresh) entry->second += block;
+    }
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(total.size() * 144 + static_cast<size_t>(coarse_A.nonZeros()));
+  for (int col = 0; col < coarse_A.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(coarse_A, col); it; ++it) entries.emplace_back(static_cast<int>(it.row()), col, it.value());
+  for (const auto& [key, block] : total) {
+    const auto p = static_cast<size_t>(key.first), q = static_cast<size_t>(key.second);
+    for (int i = 0; i < 3 * b.functions[p]; ++i)
+      for (int j = 0; j < 3 * b.functions[q]; ++j)
+        if (block(i, j) != 0.0) entries.emplace_back(b.offset[p] + i, b.offset[q] + j, block(i, j));
+  }
+  SparseMatrix C(b.dimension(), b.dimension());
+  C.setFromTriplets(entries.begin(), entries.end());
+  return C;
+}
+
+struct CoarseCorrection::Factor {
+  Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu;
+};
+
+bool CoarseCorrection::factor(const CoarseBasis& basis, const SparseMatrix& coarse) {
+  ready_ = false;
+  basis_ = &basis;
+  if (basis.dimension() == 0) return false;
+  auto f = std::make_shared<Factor>();
+  f->lu.analyzePattern(coarse);
+  f->lu.factorize(coarse);
+  if (f->lu.info() != Eigen::Success) return false;
+  const double log_det = f->lu.logAbsDeterminant();
+  if (!std::isfinite(log_det)) return false;
+  factor_ = std::move(f);
+  ready_ = true;
+  return true;
+}
+
+void CoarseCorrection::apply(const Eigen::MatrixXd& r, Eigen::MatrixXd& out) const {
+  if (!ready_) {
+    out.setZero(r.rows(), 3);
+    return;
+  }
+  Eigen::VectorXd q;
+  restrict_to_coarse(*basis_, r, q);
+  const Eigen::VectorXd solved = factor_->lu.solve(q);
+  prolong_from_coarse(*basis_, solved, out);
+}
+
+}  // namespace edgedeform

@@ -1,0 +1,183 @@
+// Deformer's Newton-Krylov iteration: the Deformer's one-step map, local fit and factor
+// offered to newton_krylov_solve, and the coarse space kept per constraint set.
+#include <chrono>
+#include <stdexcept>
+#include <string>
+
+#include "edgedeform/deformer.h"
+#include "edgedeform/mesh_checks.h"
+#include "edgedeform/newton_krylov.h"
+
+namespace edgedeform {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
+}  // namespace
+
+const CoarseBasis* Deformer::coarse_basis(int patches) {
+  if (patches <= 0) return nullptr;
+  if (!coarse_basis_ || coarse_basis_patches_ != patches) {
+    coarse_basis_ = std::make_shared<const CoarseBasis>(build_coarse_basis(*system_, rest_, topology_.edges, patches));
+    coarse_basis_patches_ = patches;
+    coarse_stiffness_valid_ = false;
+  }
+  return coarse_basis_->dimension() > 0 ? coarse_basis_.get() : nullptr;
+}
+
+const SparseMatrix& Deformer::coarse_stiffness_matrix() {
+  if (!coarse_stiffness_valid_) {
+    coarse_stiffness_ = coarse_stiffness(*coarse_basis_, assembled_->A);
+    coarse_stiffness_valid_ = true;
+  }
+  return coarse_stiffness_;
+}
+
+void Deformer::iterate_newton(const SolveOptions& options, const Eigen::MatrixXd& c, RowMatrixX3d& x_local, LocalFit& fit,
+                              SolveResult& result) {
+  struct Problem final : FixedPointProblem {
+    Deformer& d;
+    const Eigen::MatrixXd& c;
+    RowMatrixX3d& x_local;
+    SolveResult& result;
+    const SolveOptions& options;
+    Problem(Deformer& deformer, const Eigen::MatrixXd& fixed_share, RowMatrixX3d& local, SolveResult& r,
+            const SolveOptions& o)
+        : d(deformer), c(fixed_share), x_local(local), result(r), options(o) {}
+    double local_fit(const Eigen::MatrixXd& y, LocalFit& fit) override {
+      d.local_step(y, x_local, fit, result);
+      return fit.energy;
+    }
+    void global_step(const LocalFit& fit, Eigen::MatrixXd& rhs, Eigen::MatrixXd& g) override {
+      auto t0 = Clock::now();
+      d.assembled_->H.apply(fit.rotation, fit.scale, c, rhs, d.rhs_term_weights_);
+      result.rhs_ms += ms_since(t0);
+      t0 = Clock::now();
+      d.cholesky_.solve(rhs, g);
+      result.solve_ms += ms_since(t0);
+    }
+    void solve_A(const Eigen::MatrixXd& r, Eigen::MatrixXd& z) override {
+      const auto t0 = Clock::now();
+      d.cholesky_.solve(r, z);
+      result.solve_ms += ms_since(t0);
+    }
+    const SparseMatrix& A() const override { return d.assembled_->A; }
+    std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit) override {
+      return std::make_unique<FixedPointLinearization>(*d.system_, *d.assembled_, fit, d.node_positions_);
+    }
+    bool interrupt_requested() override { return options.interrupt_requested && options.interrupt_requested(); }
+  } problem(*this, c, x_local, result, options);
+
+  Iteration& it = iter_;
+  NewtonSettings settings;
+  settings.max_iterations = options.max_iterations;
+  settings.tolerance = options.tolerance;
+  settings.diag = diag_;
+  settings.descent = assembled_->term_lambda.size() > 0 && assembled_->term_lambda.minCoeff() >= 1.0;
+  settings.krylov_iterations = options.krylov_iterations;
+  // A solve that continues a fitted iterate (live editing standing still) needs no plain
+  // steps first; a cold start or moved targets take the naive step and one plain step.
+  settings.plain_steps_first = it.continuable ? 0 : 2;
+  settings.coarse = coarse_basis(options.coarse_patches);
+  if (settings.coarse) {
+    settings.coarse_stiffness = &coarse_stiffness_matrix();
+    result.coarse_dimension = settings.coarse->dimension();
+  }
+  result.energies.reserve(static_cast<size_t>(options.max_iterations));
+  result.residuals.reserve(static_cast<size_t>(options.max_iterations));
+  // The Anderson state and rate estimate do not describe Newton's iterates.
+  it.anderson.reset();
+  it.monitor.reset();
+  it.y_accelerated = false;
+  newton_krylov_solve(problem, settings, IterationPoint{it.y, fit, it.energy, it.continuable}, result);
+}
+
+const std::vector<int>& Deformer::free_vertices() const {
+  if (!system_) throw std::invalid_argument("set_constraints(handles=...) must be called first");
+  return system_->free_vertices;
+}
+
+Eigen::MatrixXd Deformer::prepare_point(const RowMatrixX3d& X, RowMatrixX3d& x_local, LocalFit& fit) {
+  if (!system_) throw std::invalid_argument("set_constraints(handles=...) must be called first");
+  if (X.rows() != rest_.rows())
+    throw std::invalid_argument("X has " + std::to_string(X.rows()) + " rows, expected " + std::to_string(rest_.rows()));
+  check_finite(X, "X");
+  SolveResult scratch;
+  ensure_factored(scratch);
+  const ConstrainedSystem& sys = *system_;
+  const int nf = sys.n_free(), nc = sys.n_fixed();
+  x_local.resize(nf + nc, 3);
+  for (int k = 0; k < nf; ++k) x_local.row(k) = X.row(sys.free_vertices[static_cast<size_t>(k)]);
+  for (int k = 0; k < nc; ++k) x_local.row(nf + k) = X.row(sys.fixed_vertices[static_cast<size_t>(k)]);
+  const Eigen::MatrixXd y = x_local.topRows(nf);
+  local_step(y, x_local, fit, scratch);
+  return -(assembled_->K_fixed * x_local.bottomRows(nc));
+}
+
+Eigen::MatrixXd Deformer::one_step_map(const RowMatrixX3d& X) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  RowMatrixX3d x_local;
+  LocalFit fit;
+  const Eigen::MatrixXd c = prepare_point(X, x_local, fit);
+  Eigen::MatrixXd rhs, g;
+  assembled_->H.apply(fit.rotation, fit.scale, c, rhs);
+  cholesky_.solve(rhs, g);
+  return g;
+}
+
+Eigen::MatrixXd Deformer::jacobian_product(const RowMatrixX3d& X, const Eigen::MatrixXd& dX, bool newton_operator) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  RowMatrixX3d x_local;
+  LocalFit fit;
+  prepare_point(X, x_local, fit);
+  if (dX.rows() != system_->n_free() || dX.cols() != 3)
+    throw std::invalid_argument("dX must be (#free vertices, 3) = (" + std::to_string(system_->n_free()) + ", 3)");
+  const FixedPointLinearization lin(*system_, *assembled_, fit, node_positions_);
+  Eigen::MatrixXd out;
+  if (newton_operator) {
+    lin.newton_operator(dX, out);
+    return out;
+  }
+  Eigen::MatrixXd d_rhs;
+  lin.rhs_derivative(dX, d_rhs);
+  cholesky_.solve(d_rhs, out);
+  return out;
+}
+
+namespace {
+SparseMatrix basis_matrix(const CoarseBasis& b) {
+  const auto nf = static_cast<int>(b.patch.size());
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int v = 0; v < nf; ++v) {
+    const auto p = static_cast<size_t>(b.patch[static_cast<size_t>(v)]);
+    for (int f = 0; f < b.functions[p]; ++f)
+      for (int c = 0; c < 3; ++c) entries.emplace_back(v + nf * c, b.offset[p] + 3 * f + c, b.value[static_cast<size_t>(v)](f));
+  }
+  SparseMatrix U(3 * nf, b.dimension());
+  U.setFromTriplets(entries.begin(), entries.end());
+  return U;
+}
+}  // namespace
+
+SparseMatrix Deformer::coarse_basis_matrix(int patches) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!system_) throw std::invalid_argument("set_constraints(handles=...) must be called first");
+  if (patches < 1) throw std::invalid_argument("patches must be at least 1");
+  const CoarseBasis* b = coarse_basis(patches);
+  if (!b) return SparseMatrix(3 * system_->n_free(), 0);
+  return basis_matrix(*b);
+}
+
+SparseMatrix Deformer::coarse_operator_at(const RowMatrixX3d& X, int patches) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  RowMatrixX3d x_local;
+  LocalFit fit;
+  prepare_point(X, x_local, fit);
+  if (patches < 1) throw std::invalid_argument("patches must be at least 1");
+  const CoarseBasis* b = coarse_basis(patches);
+  if (!b) return SparseMatrix(0, 0);
+  const FixedPointLinearization lin(*system_, *assembled_, fit, node_positions_);
+  return coarse_operator(*b, coarse_stiffness_matrix(), lin);
+}
+
+}  // namespace edgedeform
