@@ -1,11 +1,9 @@
 #!/usr/bin/env python3
 """Convergence benchmark: iterations and core milliseconds to come within 1e-3 of the
-bounding-box diagonal of the fixed point, plain local/global vs Anderson-accelerated.
+bounding-box diagonal of the fixed point, for each acceleration method the build accepts
+("none" is the plain local/global iteration).
 
-Meshes: the samples in blend_samples/meshes. Edits (heights along z unless flat in z):
-  lift   lowest 20% static, top 10% raised by 0.25 diag
-  twist  lowest 20% (longest axis) static, top 10% turned 60 degrees about that axis
-  bend   same groups, the top turned 30 degrees about the next axis
+Meshes: the samples in blend_samples/meshes. Edits: lift, twist and bend of bench/edits.py.
 Reference: the fixed point, from the accelerated iteration run to a residual of 1e-10 diag
 (tolerance 1e-9, at most 3000 iterations), then continued plainly (at most 1000 more)
 until its residual is below 1e-10 diag; the JSON records the residual reached (both methods have the same fixed points; the tests check
@@ -15,9 +13,12 @@ vertex is within 1e-3 diag of the reference; ms = factorization + local + rhs + 
 reported by the core (Python overhead excluded).
 
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_convergence.py
-        [--meshes dino,plane] [--budget 2000] [--koala | --koala-only] [--markdown docs/benchmarks.md]
+        [--meshes dino,plane] [--edits lift] [--methods anderson,none] [--budget 2000]
+        [--koala | --koala-only] [--json PATH]
 
-Prints a table, writes bench/results/convergence.json and bench/results/convergence.png.
+Prints a table, writes bench/results/convergence.json (convergence_koala.json with
+--koala-only) and bench/results/convergence.png; bench/report.py puts the tables into
+docs/benchmarks.md.
 """
 
 import argparse
@@ -33,47 +34,15 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 
+from edits import diagonal, edit, mesh_path, method_list  # noqa: E402
 from machine import machine_info  # noqa: E402
-from md_section import replace_section  # noqa: E402
 
 SAMPLES = {"dino": "cgal_dino.off", "head": "cgal_mannequin-devil.off",
            "plane": "cgal_plane.off", "spot": "spot_low_resolution.obj"}
-KOALA = ROOT.parent / "shared" / "meshes" / "koala.obj"
 LAMBDAS = (0.0, 0.5, 1.0)
 DOMAINS = ("edge", "primal")
 GOAL = 1e-3
 CHECKPOINTS = {1, 10, 25, 50, 100, 200, 400, 600, 800, 1000, 1200, 1500, 2000}
-
-
-def diag(V):
-    return float(np.linalg.norm(np.ptp(V, axis=0)))
-
-
-def rotation(axis, degrees):
-    a = np.zeros(3)
-    a[axis] = 1.0
-    t = np.radians(degrees)
-    K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
-    return np.eye(3) + np.sin(t) * K + (1 - np.cos(t)) * (K @ K)
-
-
-def edit(V, name):
-    ext = np.ptp(V, axis=0)
-    if name == "lift":
-        ax = 2 if ext[2] > 0.01 * np.linalg.norm(ext) else int(np.argmax(ext))
-    else:
-        ax = int(np.argmax(ext))
-    h = V[:, ax]
-    static = np.flatnonzero(h <= np.quantile(h, 0.2))
-    handles = np.flatnonzero(h >= np.quantile(h, 0.9))
-    if name == "lift":
-        targets = V[handles].copy()
-        targets[:, ax] += 0.25 * diag(V)
-    else:
-        about, deg = (ax, 60.0) if name == "twist" else ((ax + 1) % 3, 30.0)
-        c = V[handles].mean(axis=0)
-        targets = (V[handles] - c) @ rotation(about, deg).T + c
-    return handles, static, targets
 
 
 def core_ms(r):
@@ -140,30 +109,30 @@ def iterations_to_goal(d, targets, X_ref, dg, acceleration, budget, lam, trace=N
         its += 1
 
 
-def run_cell(ed, V, F, name, edit_name, domain, lam, budget, log):
+def run_cell(ed, V, F, name, edit_name, domain, lam, budget, methods, log):
     handles, static, targets = edit(V, edit_name)
-    dg = diag(V)
+    dg = diagonal(V)
     d = ed.Deformer(V, F, domain=domain)
     d.set_constraints(handles=handles, static=static)
     d.set_stiffness(lam)
     t0 = time.perf_counter()
     X_ref, ref_res, ref_its = reference(d, targets)
     ref_s = time.perf_counter() - t0
-    plain = iterations_to_goal(d, targets, X_ref, dg, "none", budget, lam)
-    fast = iterations_to_goal(d, targets, X_ref, dg, "anderson", budget, lam)
+    runs = {}
+    for m in methods:
+        its, ms = iterations_to_goal(d, targets, X_ref, dg, m, budget, lam)
+        runs[m] = {"iterations": its, "ms": ms}
     refactor(d, lam)
     default = d.solve(targets, warm_start=False)       # what a user gets
     dist = float(np.linalg.norm(np.asarray(default.positions) - X_ref, axis=1).max() / dg)
     row = {"mesh": name, "vertices": len(V), "edit": edit_name, "domain": domain,
            "lambda": lam, "reference_residual": ref_res, "reference_iterations": ref_its,
-           "plain_iterations": plain[0], "plain_ms": plain[1],
-           "anderson_iterations": fast[0], "anderson_ms": fast[1],
-           "ratio": (fast[0] / plain[0]) if plain[0] and fast[0] else None,
+           "methods": runs,
            "default_iterations": int(default.iterations),
            "default_converged": bool(default.converged),
            "default_distance": dist, "default_estimate": float(default.distance_estimate),
            "default_ms": core_ms(default)}
-    log(fmt_row(row) + f"   (ref {ref_its} it, res {ref_res:.0e}, {ref_s:.0f} s)")
+    log(fmt_row(row, budget) + f"   (ref {ref_its} it, res {ref_res:.0e}, {ref_s:.0f} s)")
     return row
 
 
@@ -171,30 +140,34 @@ def fmt_its(its, budget):
     return f">{budget}" if its is None else str(its)
 
 
-def fmt_row(r, budget=None):
-    b = budget or 2000
-    ratio = "-" if r["ratio"] is None else f"{r['ratio']:.2f}"
-    return (f"{r['mesh']:6} {r['edit']:5} {r['domain']:6} {r['lambda']:4} | "
-            f"{fmt_its(r['plain_iterations'], b):>6} {r['plain_ms']:9.0f} | "
-            f"{fmt_its(r['anderson_iterations'], b):>6} {r['anderson_ms']:9.0f} | {ratio:>5} | "
-            f"{r['default_iterations']:5} {'yes' if r['default_converged'] else 'NO':3} "
+def fmt_row(r, budget):
+    runs = " | ".join(f"{m} {fmt_its(v['iterations'], budget)} it {v['ms']:.0f} ms"
+                      for m, v in r["methods"].items())
+    return (f"{r['mesh']:6} {r['edit']:5} {r['domain']:6} {r['lambda']:4} | {runs} | default "
+            f"{r['default_iterations']} it, converged {r['default_converged']}, "
             f"{r['default_distance']:.1e}")
 
 
-HEADER = ("mesh   edit  domain lam  |  plain it   ms     |  AA it     ms     | ratio | "
-          "default it conv dist/diag")
+def ratio(row, method, budget):
+    """Iterations of `method` over the plain iteration's; a run that missed the budget counts
+    at the budget (conservative), None when both missed it."""
+    p = row["methods"]["none"]["iterations"]
+    a = row["methods"][method]["iterations"]
+    if not (p or a):
+        return None
+    return (a or budget) / (p or budget)
 
 
 def summary(rows, budget):
-    ratios = []
-    for r in rows:   # a run that missed the budget counts at the budget (conservative)
-        p = r["plain_iterations"] or budget
-        a = r["anderson_iterations"] or budget
-        if r["plain_iterations"] or r["anderson_iterations"]:
-            ratios.append(a / p)
+    methods = list(rows[0]["methods"]) if rows else []
+    medians = {}
+    if "none" in methods:
+        for m in methods:
+            if m != "none":
+                rs = [x for x in (ratio(r, m, budget) for r in rows) if x is not None]
+                medians[m] = float(np.median(rs)) if rs else None
     conv = [r for r in rows if r["default_converged"]]
-    return {"median_ratio": float(np.median(ratios)) if ratios else None,
-            "cells": len(rows), "cells_with_ratio": len(ratios),
+    return {"median_ratio_to_plain": medians, "cells": len(rows),
             "default_converged": len(conv),
             "default_converged_max_iterations": max((r["default_iterations"] for r in conv),
                                                     default=None),
@@ -202,29 +175,29 @@ def summary(rows, budget):
                                                   default=None)}
 
 
-def koala(ed, log, budget=1500, windows=()):
+def koala(ed, log, methods, budget=1500, windows=()):
     """The 50k koala lift (edge, lambda 0.5): iterations and core ms to 1e-3 diag of the
     reference, with the true distance along the way; the default solve, timed."""
     from edgedeform.mesh_files import read_mesh
-    V, F = read_mesh(KOALA)
+    V, F = read_mesh(mesh_path("koala.obj"))
     handles, static, targets = edit(V, "lift")
-    dg = diag(V)
+    dg = diagonal(V)
     d = ed.Deformer(V, F, domain="edge")
     d.set_constraints(handles=handles, static=static)
     d.set_stiffness(0.5)
     X_ref, res, its = cached_reference(d, "koala", "lift", "edge", 0.5, targets)
     out = {"mesh": "koala", "vertices": len(V), "reference_residual": res,
-           "reference_iterations": its, "budget": budget}
-    for acc in ("anderson", "none"):
+           "reference_iterations": its, "budget": budget, "methods": {}}
+    for acc in methods:
         trace = []
         n, ms = iterations_to_goal(d, targets, X_ref, dg, acc, budget, 0.5, trace)
-        out[acc] = {"iterations": n, "core_ms": ms, "trace": trace}
+        out["methods"][acc] = {"iterations": n, "core_ms": ms, "trace": trace}
         log(f"koala {acc}: {n} iterations, {ms:.0f} ms; (iteration, residual, estimate, "
             f"distance): {trace}")
     for w in windows:       # other Anderson windows than the default
         trace = []
         n, ms = iterations_to_goal(d, targets, X_ref, dg, "anderson", budget, 0.5, trace, w)
-        out[f"anderson_window_{w}"] = {"iterations": n, "core_ms": ms, "trace": trace}
+        out["methods"][f"anderson_window_{w}"] = {"iterations": n, "core_ms": ms, "trace": trace}
         log(f"koala anderson window {w}: {n} iterations; {trace}")
     refactor(d, 0.5)
     t0, c0 = time.perf_counter(), time.process_time()
@@ -240,128 +213,116 @@ def koala(ed, log, budget=1500, windows=()):
     return out
 
 
-def koala_markdown(k, machine):
-    a, p, dflt = k["anderson"], k["none"], k["default"]
-    b = k["budget"]
-    rows = ["| iteration | residual | estimate | true distance |", "|---|---|---|---|"]
-    rows += [f"| {i} | {r:.1e} | {e:.1e} | {t:.1e} |" for i, r, e, t in a["trace"]]
-    return "\n".join([
-        "### Koala, 50k vertices (target: 1e-3·diag in ≤ 1.5 s) (bench_convergence.py --koala)",
+def koala_markdown(result):
+    k, machine = result["koala"], result["machine"]
+    b, dflt = k["budget"], k["default"]
+    lines = [
+        "Lift, edge domain, λ = 0.5, 49,999 vertices (target: 1e-3·diag in ≤ 1.5 s including "
+        f"the factorization). Reference: {k['reference_iterations']} iterations, residual "
+        f"{k['reference_residual']:.1e}. Solver threads: {machine.get('threads', 'default')}.",
         "",
-        f"Machine: {machine['cpu']}, {machine['cores']} cores shared with other jobs (load "
-        f"{machine['load_1min']:.1f}), {machine['date']}, solver threads "
-        f"{machine.get('threads', 'default')}. Lift, edge domain, λ = 0.5. "
-        f"Reference: {k['reference_iterations']} iterations, residual {k['reference_residual']:.1e}.",
-        "",
-        f"- Anderson to 1e-3·diag of the reference: {fmt_its(a['iterations'], b)} iterations, "
-        f"{a['core_ms']:.0f} core ms including the factorization; plain: "
-        f"{fmt_its(p['iterations'], b)} iterations, {p['core_ms']:.0f} ms.",
-        f"- Default solve: {dflt['iterations']} iterations, converged = {dflt['converged']} "
-        f"(estimate {dflt['estimate']:.1e}), true distance {dflt['distance']:.1e}·diag, "
-        f"{dflt['wall_ms'] / 1e3:.1f} s wall ({dflt['factor_ms']:.0f} ms factorization).",
-        f"- Target 1e-3·diag in ≤ 1.5 s including the factorization: "
-        f"{'met' if a['iterations'] and a['core_ms'] <= 1500 else '**not met**'}.",
-        *[f"- Anderson, window {key.rsplit('_', 1)[1]}: {fmt_its(v['iterations'], b)} "
-          f"iterations to 1e-3·diag; true distance " + ", ".join(
-              f"{t:.1e} at {i}" for i, _, _, t in v["trace"] if i in (100, 400, 800, b))
-          for key, v in k.items() if key.startswith("anderson_window_")],
-        "",
-        "The accelerated iteration (default, window 5) along the way:",
-        "",
-        *rows,
-    ])
+        "| method | iterations to 1e-3·diag | core ms | target |",
+        "|---|---|---|---|",
+    ]
+    # (results written before issue 22 keep each method under its own key)
+    methods = k.get("methods") or {m: k[m] for m in ("anderson", "none") if m in k}
+    for m, v in methods.items():
+        met = v["iterations"] is not None and v["core_ms"] <= 1500
+        lines.append(f"| {m} | {fmt_its(v['iterations'], b)} | {v['core_ms']:.0f} | "
+                     f"{'met' if met else 'not met'} |")
+    lines += ["", f"Default solve: {dflt['iterations']} iterations, converged = "
+              f"{dflt['converged']} (estimate {dflt['estimate']:.1e}), true distance "
+              f"{dflt['distance']:.1e}·diag, {dflt['wall_ms'] / 1e3:.1f} s wall "
+              f"({dflt['factor_ms']:.0f} ms factorization)."]
+    return "\n".join(lines)
 
 
 def plot(rows, path, budget):
-    import matplotlib
+    """Iterations of each accelerated method against the plain iteration's, when matplotlib
+    is installed (bench/setup_peers.sh installs it); False when no plot was written."""
+    try:
+        import matplotlib
+    except ImportError:
+        print("no matplotlib: convergence plot not written", flush=True)
+        return False
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(6, 5))
+    accelerated = [m for m in rows[0]["methods"] if m != "none"]
+    if "none" not in rows[0]["methods"] or not accelerated:
+        return False
+    fig, axes = plt.subplots(1, len(accelerated), figsize=(6 * len(accelerated), 5), squeeze=False)
     marks = {"lift": "o", "twist": "s", "bend": "^"}
     colours = {0.0: "tab:blue", 0.5: "tab:green", 1.0: "tab:red"}
-    for r in rows:
-        p = r["plain_iterations"] or budget
-        a = r["anderson_iterations"] or budget
-        ax.scatter(p, a, marker=marks[r["edit"]], c=colours[r["lambda"]],
-                   edgecolors="k" if r["domain"] == "edge" else "none", s=40)
-    lim = [1, budget * 1.3]
-    ax.plot(lim, lim, "k:", lw=1, label="equal")
-    ax.plot(lim, [x / 3 for x in lim], "k--", lw=1, label="1/3")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("plain iterations to 1e-3 diag")
-    ax.set_ylabel("Anderson iterations to 1e-3 diag")
-    for e, m in marks.items():
-        ax.scatter([], [], marker=m, c="grey", label=e)
-    for lam, c in colours.items():
-        ax.scatter([], [], marker="o", c=c, label=f"λ={lam:g}")
-    ax.legend(fontsize=8, loc="upper left")
-    ax.set_title(f"Iterations to 1e-3·diag (budget {budget}; edge = black outline)")
+    for ax, method in zip(axes[0], accelerated):
+        for r in rows:
+            p = r["methods"]["none"]["iterations"] or budget
+            a = r["methods"][method]["iterations"] or budget
+            ax.scatter(p, a, marker=marks.get(r["edit"], "x"), c=colours.get(r["lambda"], "k"),
+                       edgecolors="k" if r["domain"] == "edge" else "none", s=40)
+        lim = [1, budget * 1.3]
+        ax.plot(lim, lim, "k:", lw=1, label="equal")
+        ax.plot(lim, [x / 3 for x in lim], "k--", lw=1, label="1/3")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("plain iterations to 1e-3 diag")
+        ax.set_ylabel(f"{method} iterations to 1e-3 diag")
+        for e, m in marks.items():
+            ax.scatter([], [], marker=m, c="grey", label=e)
+        for lam, c in colours.items():
+            ax.scatter([], [], marker="o", c=c, label=f"λ={lam:g}")
+        ax.legend(fontsize=8, loc="upper left")
+        ax.set_title(f"{method} vs plain (budget {budget}; edge = black outline)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
+    return True
 
 
-def markdown(result, png_rel):
+def markdown(result, png_rel=None):
     b = result["budget"]
     s = result["summary"]
-    m = result["machine"]
+    methods = list(result["rows"][0]["methods"]) if result["rows"] else []
+    accelerated = [m for m in methods if m != "none" and "none" in methods]
     lines = [
-        "## Convergence: plain vs Anderson-accelerated (bench/bench_convergence.py)",
-        "",
-        f"Machine: {m['cpu']}, {m['cores']} cores shared with other jobs (load {m['load_1min']:.1f} "
-        f"during the run), {m['date']}. Timings are noisy; iteration counts are exact.",
-        "",
         "Iterations and core ms (factorization + local + rhs + solve) until every vertex is "
         "within 1e-3·diag of the fixed point (reference: see the script's docstring); "
-        f"'>{b}' = not within the budget. 'default' = `solve(targets)` with the defaults "
-        "(Anderson, tolerance 1e-3, max 2000 iterations): its iterations, whether it reports "
-        "converged, and its true distance to the reference / diag.",
+        f"'>{b}' = not within the budget; 'none' is the plain local/global iteration. "
+        "'default' = `solve(targets)` with the defaults of the build in the JSON: its "
+        "iterations, whether it reports converged, and its true distance to the reference / diag.",
         "",
-        "| mesh | edit | domain | λ | plain it | plain ms | AA it | AA ms | AA/plain | default it | converged | distance |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| mesh | edit | domain | λ | " + " | ".join(f"{m} it | {m} ms" for m in methods)
+        + "".join(f" | {m}/plain" for m in accelerated)
+        + " | default it | converged | distance |",
+        "|---" * (4 + 2 * len(methods) + len(accelerated) + 3) + "|",
     ]
     for r in result["rows"]:
-        ratio = "–" if r["ratio"] is None else f"{r['ratio']:.2f}"
+        runs = " | ".join(f"{fmt_its(r['methods'][m]['iterations'], b)} | {r['methods'][m]['ms']:.0f}"
+                          for m in methods)
+        ratios = "".join(" | " + ("–" if ratio(r, m, b) is None else f"{ratio(r, m, b):.2f}")
+                         for m in accelerated)
         lines.append(
-            f"| {r['mesh']} | {r['edit']} | {r['domain']} | {r['lambda']:g} | "
-            f"{fmt_its(r['plain_iterations'], b)} | {r['plain_ms']:.0f} | "
-            f"{fmt_its(r['anderson_iterations'], b)} | {r['anderson_ms']:.0f} | {ratio} | "
+            f"| {r['mesh']} | {r['edit']} | {r['domain']} | {r['lambda']:g} | {runs}{ratios} | "
             f"{r['default_iterations']} | {'yes' if r['default_converged'] else '**no**'} | "
             f"{r['default_distance']:.1e} |")
-    lines += ["", f"![iterations, plain vs Anderson]({png_rel})", "",
-              f"Median Anderson/plain iteration ratio: {s['median_ratio']:.2f} over "
-              f"{s['cells_with_ratio']} cells (a run that missed the budget counts as {b}). "
-              f"Default cold solves reporting converged: {s['default_converged']} of {s['cells']}, "
-              f"at most {s['default_converged_max_iterations']} iterations, largest true "
-              f"distance {s['default_converged_max_distance']:.1e}·diag."]
-    # Which cells to read closely, from this run's rows (not written by hand).
+    if png_rel:
+        lines += ["", f"![iterations of each method against the plain iteration's]({png_rel})"]
+    medians = ", ".join(f"{m} {v:.2f}" for m, v in s["median_ratio_to_plain"].items() if v is not None)
+    lines += ["", f"Median iteration ratio to the plain iteration: {medians or 'none measured'} "
+              f"(a run that missed the budget counts as {b}). Default cold solves reporting "
+              f"converged: {s['default_converged']} of {s['cells']}, at most "
+              f"{s['default_converged_max_iterations']} iterations, largest true distance "
+              + (f"{s['default_converged_max_distance']:.1e}·diag."
+                 if s["default_converged_max_distance"] is not None else "–.")]
     said_no = [r for r in result["rows"] if not r["default_converged"]]
     far = [r for r in result["rows"] if r["default_converged"] and r["default_distance"] > 2e-3]
     cell = lambda r: f"{r['mesh']} {r['edit']} {r['domain']} λ = {r['lambda']:g}"
     lines += [
         "",
-        "Reading the table (lists from this run's rows):",
         "- Default solves that end 'not converged' (with the warning, nothing claimed): "
         + (", ".join(cell(r) for r in said_no) or "none") + ".",
         "- Default solves that report converged but lie more than 2·tolerance (2e-3·diag) from "
         "the reference: " + (", ".join(f"{cell(r)} ({r['default_distance']:.1e})" for r in far) or "none")
-        + ". Where that is the flat plane's in-plane bend (edge domain): the flat shape is an "
-        "exact, unstable fixed point of the symmetric problem, where both methods sit with a "
-        "round-off residual, and the long reference run leaves it out of plane only after "
-        "hundreds of iterations of round-off growth; the estimate speaks about the fixed point "
-        "the iteration is at and cannot know of another one. Elsewhere it is the estimate's "
-        "known weakness with modes contracting by ~0.9995 per step (docs/deviations.md, "
-        "item 8).",
+        + " (why these can happen: docs/decisions/0008-convergence-estimate.md).",
     ]
-    k = result.get("koala")
-    if k:
-        lines += ["", f"Koala ({k['vertices']} vertices) lift, edge, λ = 0.5: Anderson reaches "
-                  f"1e-3·diag in {k['anderson']['iterations']} iterations, "
-                  f"{k['anderson']['core_ms']:.0f} ms including factorization "
-                  f"(plain: {k['none']['iterations']} iterations, {k['none']['core_ms']:.0f} ms); "
-                  f"the default solve takes {k['default']['iterations']} iterations, "
-                  f"{k['default']['wall_ms']:.0f} ms wall, converged = {k['default']['converged']}, "
-                  f"true distance {k['default']['distance']:.1e}·diag."]
     return "\n".join(lines)
 
 
@@ -369,60 +330,54 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--meshes", default=",".join(SAMPLES))
     ap.add_argument("--edits", default="lift,twist,bend")
+    ap.add_argument("--methods", default="",
+                    help="comma list of acceleration methods (default: every one the build accepts)")
+    ap.add_argument("--lambdas", default=",".join(map(str, LAMBDAS)))
+    ap.add_argument("--domains", default=",".join(DOMAINS))
     ap.add_argument("--budget", type=int, default=2000)
     ap.add_argument("--koala", action="store_true", help="also the 50k koala lift")
     ap.add_argument("--koala-only", action="store_true", help="only the 50k koala lift")
     ap.add_argument("--koala-windows", default="",
                     help="koala: also these Anderson windows, e.g. 10,20")
-    ap.add_argument("--markdown", default=None)
-    ap.add_argument("--from-json", default=None)
+    ap.add_argument("--json", default=None, help="where to write the result (default: "
+                    "bench/results/convergence.json, or convergence_koala.json with --koala-only)")
     args = ap.parse_args(argv)
     out = HERE / "results"
-    if args.from_json:
-        result = json.loads(Path(args.from_json).read_text())
-        write_outputs(result, out, args.markdown)
-        return
     import edgedeform as ed
     from edgedeform.mesh_files import read_mesh
-
+    methods = method_list(ed, args.methods)
+    windows = [int(w) for w in args.koala_windows.split(",") if w]
+    log = lambda s: print(s, flush=True)  # noqa: E731
+    machine = dict(machine_info(), threads=os.environ.get("OMP_NUM_THREADS", "default"))
     if args.koala_only:
-        k = koala(ed, lambda s: print(s, flush=True),
-                  windows=[int(w) for w in args.koala_windows.split(",") if w])
-        out.mkdir(exist_ok=True)
-        machine = dict(machine_info(), threads=os.environ.get("OMP_NUM_THREADS", "default"))
-        (out / "convergence_koala.json").write_text(
-            json.dumps({"machine": machine, "koala": k}, indent=1))
-        if args.markdown:
-            replace_section(args.markdown, "convergence-koala", koala_markdown(k, machine))
+        k = koala(ed, log, methods, windows=windows)
+        path = Path(args.json or out / "convergence_koala.json")
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps({"machine": machine, "build_info": ed.build_info(),
+                                    "koala": k}, indent=1))
         return
-    result = {"machine": machine_info(), "budget": args.budget, "goal": GOAL, "rows": []}
-    print(HEADER, flush=True)
+    result = {"machine": machine, "build_info": ed.build_info(), "budget": args.budget,
+              "goal": GOAL, "command": "bench/bench_convergence.py " + " ".join(argv or sys.argv[1:]),
+              "rows": []}
+    path = Path(args.json or out / "convergence.json")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    partial = out / "cache" / (path.stem + ".partial.json")   # what a long run has so far
+    partial.parent.mkdir(parents=True, exist_ok=True)
     for name in args.meshes.split(","):
-        V, F = read_mesh(ROOT / "blend_samples" / "meshes" / SAMPLES[name])
+        V, F = read_mesh(mesh_path(SAMPLES[name]))
         for e in args.edits.split(","):
-            for domain in DOMAINS:
-                for lam in LAMBDAS:
+            for domain in args.domains.split(","):
+                for lam in (float(x) for x in args.lambdas.split(",")):
                     result["rows"].append(run_cell(ed, V, F, name, e, domain, lam, args.budget,
-                                                   lambda s: print(s, flush=True)))
+                                                   methods, log))
+                    partial.write_text(json.dumps(result, indent=1))
     result["summary"] = summary(result["rows"], args.budget)
     print(json.dumps(result["summary"]))
     if args.koala:
-        result["koala"] = koala(ed, lambda s: print(s, flush=True),
-                                windows=[int(w) for w in args.koala_windows.split(",") if w])
-    out.mkdir(exist_ok=True)
-    (out / "convergence.json").write_text(json.dumps(result, indent=1))
-    write_outputs(result, out, args.markdown)
-
-
-def write_outputs(result, out, markdown_path):
-    plot(result["rows"], out / "convergence.png", result["budget"])
-    if markdown_path:
-        img = ROOT / "docs" / "img" / "convergence.png"
-        img.write_bytes((out / "convergence.png").read_bytes())
-        replace_section(markdown_path, "convergence", markdown(result, "img/convergence.png"))
-        if result.get("koala"):
-            replace_section(markdown_path, "convergence-koala",
-                            koala_markdown(result["koala"], result["machine"]))
+        result["koala"] = koala(ed, log, methods, windows=windows)
+    path.write_text(json.dumps(result, indent=1))
+    partial.unlink()
+    plot(result["rows"], path.with_suffix(".png"), result["budget"])
 
 
 if __name__ == "__main__":

@@ -8,7 +8,7 @@ the bounding-box diagonal. Height is the z coordinate, unless the mesh is flat i
 below is flat in z, so all of them are lifted along z.)
 
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_core.py [--sizes 1k,10k]
-        [--max-iterations 300] [--busy] [--roi] [--markdown docs/benchmarks.md]
+        [--max-iterations 300] [--busy] [--roi] [--json PATH]
 
 Besides precompute and iterations, every row measures the incremental paths: a change of λ
 (numeric refactorization) and a handle group added and removed, each against a fresh
@@ -16,9 +16,9 @@ Deformer, with the largest position difference between the two. --busy runs a bu
 in a second process for the whole run (one core kept busy); --roi measures a region of
 interest on the 140k mesh against a whole mesh of the same vertex count instead.
 
-Prints a table, merges its rows into bench/results/core.json (rows of other sizes are
-kept, so sizes can be run one at a time) and, with --markdown, rewrites its own section
-of that file.
+Prints a table and merges its rows into bench/results/core.json (rows of other sizes are
+kept, so sizes can be run one at a time); bench/report.py puts the table into
+docs/benchmarks.md.
 """
 
 import argparse
@@ -35,12 +35,11 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from edits import SHARED_MESHES, lift_edit, up_axis  # noqa: E402
+from edits import lift_edit, mesh_path, up_axis  # noqa: E402
 from machine import machine_info  # noqa: E402
-from md_section import replace_section  # noqa: E402
 
-MESHES = SHARED_MESHES  # --meshes replaces it
-SIZES = {  # read straight from the shared folder; the big ones are not copied
+MESHES = None  # --meshes: a folder holding them all; by default edits.mesh_path() finds them
+SIZES = {
     "1k": "spot_low_resolution.obj",
     "10k": "blub_fish.obj",
     "50k": "koala.obj",
@@ -271,7 +270,7 @@ def busy_ab(sizes, rounds):
     rows = []
     try:
         for size in sizes:
-            code = ITERATION_SCRIPT.format(here=str(HERE), path=f"{MESHES}/{SIZES[size]}")
+            code = ITERATION_SCRIPT.format(here=str(HERE), path=str(mesh_path(SIZES[size], MESHES)))
             times = {1: [], 2: []}
             for _ in range(rounds):
                 for threads in (1, 2):
@@ -292,7 +291,7 @@ def busy_ab(sizes, rounds):
 def peak_memory(size, domain, lam):
     """Peak resident set (MB) of a fresh process that reads the mesh, builds one Deformer,
     factors and runs 10 iterations: the memory one live session needs."""
-    code = PEAK_SCRIPT.format(here=str(HERE), path=f"{MESHES}/{SIZES[size]}", domain=domain, lam=lam)
+    code = PEAK_SCRIPT.format(here=str(HERE), path=str(mesh_path(SIZES[size], MESHES)), domain=domain, lam=lam)
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     return {"size": size, "domain": domain, "lambda": lam, "peak_mb": float(out.stdout.split()[-1])}
 
@@ -303,8 +302,8 @@ def run_roi(ed, repeat, domain="edge", lam=0.5):
     Deformer construction (done once per mesh), and per iteration."""
     from edgedeform.mesh_files import read_mesh
     rows = []
-    Vs, Fs = read_mesh(f"{MESHES}/{ROI_REFERENCE}")
-    Vb, Fb = read_mesh(f"{MESHES}/{SIZES['140k']}")
+    Vs, Fs = read_mesh(str(mesh_path(ROI_REFERENCE, MESHES)))
+    Vb, Fb = read_mesh(str(mesh_path(SIZES['140k'], MESHES)))
     ax = up_axis(Vb)
     seed = int(np.argmax(Vb[:, ax]))
     region = grow_region(Fb, seed, len(Vs))
@@ -454,8 +453,8 @@ def markdown(result):
     rows = sorted(result["rows"], key=row_order)
     return f"""## Core solver (bench/bench_core.py)
 
-Machine: {m['cpu']}, {m['cores']} cores (shared with five other sessions building and testing;
-1-minute load average {m.get('load_1min', 0):.1f} when the run finished). Date: {m['date']}.
+Machine: {m['cpu']}, {m['cores']} cores (1-minute load average {m.get('load_1min', 0):.1f}
+when the run finished). Date: {m['date']}.
 Build: solver `{bi.get('solver', '?')}`, threads {bi.get('threads', '?')} (the core's own
 worker pool, see "Where the time goes").
 
@@ -509,15 +508,14 @@ def main(argv=None):
                    help="only the peak memory of one Deformer per size/domain/λ, each in a fresh process")
     p.add_argument("--roi", action="store_true",
                    help="only the region-of-interest comparison (results under 'roi')")
-    p.add_argument("--meshes", default=str(SHARED_MESHES),
-                   help="folder of the benchmark meshes (default: ../shared/meshes beside the checkout)")
+    p.add_argument("--meshes", default=None,
+                   help="folder of the benchmark meshes (default: bench/meshes, tests/data, blend_samples/meshes)")
     p.add_argument("--json", default=str(HERE / "results" / "core.json"))
-    p.add_argument("--markdown", default=None, help="update this file's core section")
     args = p.parse_args(argv)
     if args.busy and args.busy_ab:
         p.error("--busy-ab keeps one core busy itself; with --busy both cores would be")
     global MESHES
-    MESHES = Path(args.meshes)
+    MESHES = args.meshes
 
     if args.threads:
         os.environ["OMP_NUM_THREADS"] = str(args.threads)
@@ -533,9 +531,8 @@ def main(argv=None):
     result.update({"machine": machine_info(), "build_info": dict(ed.build_info()),
                    "tolerance": args.tolerance, "max_iterations": args.max_iterations,
                    "repeat": args.repeat})
-    # Every invocation that contributed rows (markdown target left out)
-    cmd = "bench/bench_core.py " + " ".join(
-        a for a in (argv or sys.argv[1:]) if a != "--markdown" and a != args.markdown)
+    # Every invocation that contributed rows
+    cmd = "bench/bench_core.py " + " ".join(argv or sys.argv[1:])
     result["commands"] = [c for c in result.get("commands", []) if c != cmd] + [cmd]
     busy = subprocess.Popen([sys.executable, "-c", "while True: pass"]) if args.busy else None
     try:
@@ -560,9 +557,6 @@ def main(argv=None):
             busy.kill()
     print()
     print(table(sorted(result["rows"], key=row_order)))
-    if args.markdown:
-        replace_section(args.markdown, "core-bench", markdown(result))
-        print(f"\nupdated {args.markdown}")
 
 
 def row_order(r):
@@ -573,7 +567,7 @@ def row_order(r):
 def measure_sizes(ed, args, sizes, threads, result, out):
     from edgedeform.mesh_files import read_mesh
     for size in sizes:
-        V, F = read_mesh(f"{MESHES}/{SIZES[size]}")
+        V, F = read_mesh(str(mesh_path(SIZES[size], MESHES)))
         edit = lift_edit(V)
         for domain in args.domains.split(","):
             for lam in map(float, args.lambdas.split(",")):

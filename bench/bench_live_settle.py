@@ -14,7 +14,7 @@ point (the reference of bench_convergence.py: the same edit run long, towards a 
 of 1e-10 diag). Not modelled: writing the shape into Blender's mesh each tick.
 
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_live_settle.py
-        [--mesh koala] [--lam 0.5] [--domain edge] [--drag-ticks 30] [--markdown docs/benchmarks.md]
+        [--mesh koala] [--lam 0.5] [--domain edge] [--drag-ticks 30] [--json PATH]
 
 Prints a table, writes bench/results/live_settle.json. The reference for the 50k koala
 takes thousands of iterations; it is cached in bench/results/cache/ (not committed).
@@ -33,12 +33,11 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 
-from bench_convergence import KOALA, cached_reference, diag, edit  # noqa: E402
+from bench_convergence import cached_reference  # noqa: E402
+from edits import diagonal, edit, mesh_path  # noqa: E402
 from machine import machine_info  # noqa: E402
-from md_section import replace_section  # noqa: E402
 
-MESHES = {"koala": KOALA, "spot": ROOT / "blend_samples" / "meshes" / "spot_low_resolution.obj",
-          "dino": ROOT / "blend_samples" / "meshes" / "cgal_dino.off"}
+MESHES = {"koala": "koala.obj", "spot": "spot_low_resolution.obj", "dino": "cgal_dino.off"}
 TIMER_MS = 1000.0 / 60.0       # Live's timer (op_common.ModalTool)
 TICK_BUDGET_MS = 40.0          # engine.IterationBudget
 SETTINGS_ITERATIONS = 4        # the add-on's default Iterations setting
@@ -80,9 +79,9 @@ def tick(d, targets, budget):
 def run(mesh, domain, lam, drag_ticks, log):
     import edgedeform as ed
     from edgedeform.mesh_files import read_mesh
-    V, F = read_mesh(MESHES[mesh])
+    V, F = read_mesh(mesh_path(MESHES[mesh]))
     handles, static, final = edit(V, "lift")
-    dg = diag(V)
+    dg = diagonal(V)
     d = ed.Deformer(V, F, domain=domain)
     d.set_constraints(handles=handles, static=static)
     d.set_stiffness(lam)
@@ -127,7 +126,8 @@ def run(mesh, domain, lam, drag_ticks, log):
     return out
 
 
-def markdown(rows, machine):
+def markdown(result):
+    rows, machine = result["rows"], result["machine"]
     lines = [
         "### Live settling after the mouse stops (bench/bench_live_settle.py)",
         "",
@@ -174,24 +174,16 @@ def main(argv=None):
     ap.add_argument("--domain", default="edge")
     ap.add_argument("--lam", type=float, default=0.5)
     ap.add_argument("--drag-ticks", type=int, default=30)
-    ap.add_argument("--markdown", default=None)
-    ap.add_argument("--from-json", default=None, help="only rewrite the Markdown from a JSON")
+    ap.add_argument("--json", default=str(HERE / "results" / "live_settle.json"))
     args = ap.parse_args(argv)
-    if args.from_json:
-        result = json.loads(Path(args.from_json).read_text())
-        print(markdown(result["rows"], result["machine"]))
-        if args.markdown:
-            replace_section(args.markdown, "live-settle", markdown(result["rows"], result["machine"]))
-        return
     rows = [run(m, args.domain, args.lam, args.drag_ticks, lambda s: print(s, flush=True))
             for m in args.mesh.split(",")]
-    result = {"machine": machine_info(), "rows": rows}
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "live_settle.json").write_text(json.dumps(result, indent=1))
-    print(markdown(rows, result["machine"]))
-    if args.markdown:
-        replace_section(args.markdown, "live-settle", markdown(rows, result["machine"]))
-
+    result = {"machine": machine_info(), "rows": rows,
+              "command": "bench/bench_live_settle.py " + " ".join(argv or sys.argv[1:])}
+    out = Path(args.json)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(result, indent=1))
+    print(markdown(result))
 
 if __name__ == "__main__":
     main()

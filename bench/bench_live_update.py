@@ -8,12 +8,12 @@ the height follows an Empty that moves a little every update, the lowest 20 % is
 λ = 0.5. Meshes: ~10k (blub_fish.obj) and ~50k (koala.obj) vertices.
 
     blender -b --factory-startup --python bench/bench_live_update.py -- \
-        [--sizes 10k,50k] [--updates 30] [--markdown] [--from-json]
+        [--sizes 10k,50k] [--updates 30] [--json bench/results/live_update.json]
 
 Needs build/python (the package) and addon/ (the add-on) on the path: set
 EDGEDEFORM_PYTHONPATH / EDGEDEFORM_ADDON_DIR or run from the repository root. Prints a
-table, writes bench/results/live_update.json and, with --markdown, rewrites its own
-section of docs/benchmarks.md and docs/addon.md.
+table and writes bench/results/live_update.json; bench/report.py puts the table into
+docs/benchmarks.md.
 """
 
 import argparse
@@ -37,18 +37,17 @@ import edge_deform  # noqa: E402
 import edgedeform as ed  # noqa: E402
 from edgedeform.mesh_files import read_mesh  # noqa: E402
 from edge_deform import lifecycle  # noqa: E402
-from edits import SHARED_MESHES, diagonal, regions  # noqa: E402
+from edits import diagonal, mesh_path, regions  # noqa: E402
 from machine import machine_info  # noqa: E402
-from md_section import replace_section  # noqa: E402
 
-SIZES = {"10k": "blub_fish.obj", "50k": "koala.obj"}
+SIZES = {"1k": "spot_low_resolution.obj", "10k": "blub_fish.obj", "50k": "koala.obj"}  # 1k: the smoke test
 DOMAINS = ("EDGE", "PRIMAL")
 
 
 def scene_for(meshes, name):
     for ob in list(bpy.data.objects):
         bpy.data.objects.remove(ob)
-    V, F = read_mesh(Path(meshes) / name)
+    V, F = read_mesh(mesh_path(name, meshes))
     mesh = bpy.data.meshes.new(name)
     mesh.from_pydata(V.tolist(), [], F.tolist())
     ob = bpy.data.objects.new(name, mesh)
@@ -97,21 +96,12 @@ def time_updates(ob, empty, step, updates):
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     ap = argparse.ArgumentParser()
-    ap.add_argument("--sizes", default="10k,50k")
+    ap.add_argument("--sizes", default="10k,50k", help="comma list of " + ",".join(SIZES))
     ap.add_argument("--updates", type=int, default=30)
-    ap.add_argument("--meshes", default=str(SHARED_MESHES),
-                    help="folder of the benchmark meshes (default: ../shared/meshes beside the checkout)")
-    ap.add_argument("--markdown", action="store_true")
-    ap.add_argument("--from-json", action="store_true",
-                    help="only re-render the Markdown from bench/results/live_update.json")
+    ap.add_argument("--meshes", default=None,
+                    help="folder of the benchmark meshes (default: bench/meshes and the test data)")
+    ap.add_argument("--json", default=str(HERE / "results" / "live_update.json"))
     args = ap.parse_args(argv)
-    if args.from_json:
-        saved = json.loads((HERE / "results" / "live_update.json").read_text())
-        body = markdown(saved["machine"], saved["results"])
-        replace_section(ROOT / "docs" / "benchmarks.md", "live-update", body)
-        replace_section(ROOT / "docs" / "addon.md", "live-update", body)
-        print(body)
-        return
     if not hasattr(bpy.types.Object, "edge_deform"):
         edge_deform.register()
 
@@ -144,15 +134,11 @@ def main():
 
     info = machine_info()
     info.update(blender=bpy.app.version_string, build=ed.build_info())
-    out = HERE / "results" / "live_update.json"
-    out.parent.mkdir(exist_ok=True)
+    info["command"] = "blender -b --factory-startup --python bench/bench_live_update.py -- " + " ".join(argv)
+    out = Path(args.json)
+    out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps({"machine": info, "results": results}, indent=1))
     print("wrote", out)
-    if args.markdown:
-        body = markdown(info, results)
-        replace_section(ROOT / "docs" / "benchmarks.md", "live-update", body)
-        replace_section(ROOT / "docs" / "addon.md", "live-update", body)
-        print("updated docs/benchmarks.md and docs/addon.md")
 
 
 def markdown(info, results):

@@ -16,11 +16,10 @@ one warm-started iteration, accelerated when the build has it) against a frame o
     bench/setup_peers.sh
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_peers.py \
         [--sizes 4k,12k,50k,140k] [--edits lift,twist] [--peers edgedeform,cgal,libigl,blender]
-        [--converge-sizes 4k,12k,50k] [--markdown docs/benchmarks.md]
+        [--converge-sizes 4k,12k,50k] [--json bench/results/peers.json]
 
 Prints a table, merges its rows into bench/results/peers.json and writes
-bench/results/peers.png (and, with --markdown, its section of that file and the plot
-beside it in docs/img/).
+bench/results/peers.png; bench/report.py puts the tables into docs/benchmarks.md.
 """
 
 import argparse
@@ -39,7 +38,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 
-from edits import EDITS, SHARED_MESHES, TWIST_DEGREES, diagonal  # noqa: E402
+from edits import EDITS, TWIST_DEGREES, diagonal, mesh_path  # noqa: E402
 from machine import machine_info  # noqa: E402
 from peers.problem import write_problem  # noqa: E402
 import peers_report  # noqa: E402
@@ -186,9 +185,9 @@ def main(argv=None):
     p.add_argument("--sizes", default=",".join(SIZES), help="comma list of " + ",".join(SIZES))
     p.add_argument("--mesh", action="append", default=[],
                    help="a mesh file to use instead of --sizes (repeatable; label = file name)")
-    p.add_argument("--meshes", default=str(SHARED_MESHES),
-                   help="folder of the size table's meshes (default: ../shared/meshes)")
-    p.add_argument("--edits", default=",".join(EDITS))
+    p.add_argument("--meshes", default=None,
+                   help="folder of the size table's meshes (default: bench/meshes and the test data)")
+    p.add_argument("--edits", default="lift,twist")
     p.add_argument("--peers", default=",".join(PEERS))
     p.add_argument("--converge-sizes", default="4k,12k,50k",
                    help="sizes that also get a converged reference and time to eps "
@@ -212,14 +211,6 @@ def main(argv=None):
     p.add_argument("--json", default=str(HERE / "results" / "peers.json"))
     p.add_argument("--plot", default=str(HERE / "results" / "peers.png"),
                    help="PNG plot ('' for none)")
-    p.add_argument("--markdown", default=None,
-                   help="rewrite the peers section of this file (plot copied to docs/img)")
-    p.add_argument("--section", default="peers",
-                   help="the marked section of --markdown to rewrite (another name keeps a "
-                        "second run, e.g. a long convergence run with its own --json, apart)")
-    p.add_argument("--heading", default="## Peers: CGAL, libigl, Blender Laplacian Deform "
-                                        "(bench/bench_peers.py)",
-                   help="the section's heading line")
     args = p.parse_args(argv)
 
     import edgedeform as ed
@@ -231,7 +222,7 @@ def main(argv=None):
         for s in args.sizes.split(","):
             if s not in SIZES:
                 p.error(f"unknown size {s!r} (known: {', '.join(SIZES)})")
-        meshes = [(s, Path(args.meshes) / SIZES[s]) for s in args.sizes.split(",")]
+        meshes = [(s, mesh_path(SIZES[s], args.meshes)) for s in args.sizes.split(",")]
     for _, path in meshes:
         if not path.is_file():
             p.error(f"mesh {path} not found (--meshes sets the folder)")
@@ -252,9 +243,7 @@ def main(argv=None):
 
     out = Path(args.json)
     result = json.loads(out.read_text()) if out.exists() else {"rows": []}
-    cmd = "bench/bench_peers.py " + " ".join(
-        a for a in (argv if argv is not None else sys.argv[1:])
-        if a not in ("--markdown", args.markdown, "--heading", args.heading))
+    cmd = "bench/bench_peers.py " + " ".join(argv if argv is not None else sys.argv[1:])
     result.update(machine=machine_info(), build_info=dict(ed.build_info()),
                   settings={k: getattr(args, k) for k in
                             ("ref_iterations", "ref_tol", "eps", "repeat", "block")},
@@ -298,9 +287,6 @@ def main(argv=None):
             print(f"\nplot: {args.plot}")
         except ImportError as e:     # matplotlib comes with bench/setup_peers.sh
             print(f"\nno plot ({e}); bench/setup_peers.sh installs matplotlib")
-    if args.markdown:
-        peers_report.write_markdown(result, args.markdown, args.plot, args.section, args.heading)
-        print(f"updated {args.markdown}")
 
 
 if __name__ == "__main__":

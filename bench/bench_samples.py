@@ -3,10 +3,12 @@
 domain x uniform lambda in {0, 0.25, 0.5, 0.75, 1}: a default cold solve (Anderson, tolerance
 1e-3, at most 2000 iterations) must either report converged or stop with the "not converged"
 warning, with finite positions. Prints one line per cell and writes
-bench/results/samples_convergence.json.
+bench/results/samples_convergence.json (bench/report.py renders it with markdown()).
 
-    PYTHONPATH=build/python /usr/bin/python3 bench/bench_samples.py
+    PYTHONPATH=build/python /usr/bin/python3 bench/bench_samples.py [--scenes dino,bar]
+        [--json PATH]
 """
+import argparse
 import json
 import sys
 import time
@@ -23,16 +25,26 @@ from machine import machine_info  # noqa: E402
 import regions  # noqa: E402
 
 
-def main():
+LAMBDAS = (0.0, 0.25, 0.5, 0.75, 1.0)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--scenes", default="", help="comma list of scene names (default: all)")
+    ap.add_argument("--json", default=str(HERE / "results" / "samples_convergence.json"))
+    args = ap.parse_args(argv)
     import edgedeform as ed
+    wanted = [x for x in args.scenes.split(",") if x]
     rows = []
     for scene in regions.load_scenes():
+        if wanted and scene["name"] not in wanted:
+            continue
         V, F = regions.scene_mesh(scene)
         setup = regions.scene_setup(scene, V)
         for domain in ("edge", "primal"):
             d = ed.Deformer(V, F, domain=domain)
             d.set_constraints(handles=setup["handle_index"], static=setup["static"])
-            for lam in (0.0, 0.25, 0.5, 0.75, 1.0):
+            for lam in LAMBDAS:
                 d.set_stiffness(lam)
                 t0 = time.perf_counter()
                 r = d.solve(setup["targets"], warm_start=False)
@@ -53,9 +65,35 @@ def main():
     ok = all(r["finite"] and (r["converged"] or r["warned"]) for r in rows)
     print(f"{sum(r['converged'] for r in rows)} of {len(rows)} converged; every other one "
           f"warned: {ok}")
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "samples_convergence.json").write_text(
-        json.dumps({"machine": machine_info(), "rows": rows}, indent=1))
+    out = Path(args.json)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps({"machine": machine_info(), "build_info": ed.build_info(),
+                               "command": "bench/bench_samples.py " + " ".join(argv or sys.argv[1:]),
+                               "rows": rows}, indent=1))
+
+
+def markdown(result):
+    rows = result["rows"]
+    cols = [(d, lam) for d in ("edge", "primal") for lam in LAMBDAS]
+    lines = ["Every sample scene of blend_samples/scenes.json with its own handles, static "
+             "vertices and edit; a default cold solve (tolerance 1e-3, at most 2000 "
+             "iterations). Cell: iterations, then ✓ converged or ✗ stopped with the "
+             "'not converged' warning.", "",
+             "| scene | vertices | " + " | ".join(f"{d} λ={lam:g}" for d, lam in cols) + " |",
+             "|---" * (2 + len(cols)) + "|"]
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        mine = {(r["domain"], r["lambda"]): r for r in rows if r["scene"] == scene}
+        cells = []
+        for c in cols:
+            r = mine.get(c)
+            cells.append("–" if r is None else
+                         f"{r['iterations']} {'✓' if r['converged'] else '✗' if r['warned'] else '?'}")
+        n = next(r["vertices"] for r in rows if r["scene"] == scene)
+        lines.append(f"| {scene} | {n:,} | " + " | ".join(cells) + " |")
+    good = sum(r["converged"] for r in rows)
+    lines += ["", f"{good} of {len(rows)} converged; every other one warned: "
+              f"{'yes' if all(r['finite'] and (r['converged'] or r['warned']) for r in rows) else '**no**'}."]
+    return "\n".join(lines)
 
 
 if __name__ == "__main__":

@@ -16,9 +16,8 @@ computed in child processes with 1 and with 2 solver threads, and the two end po
 (round-off differs between them, nothing else).
 
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_spectrum.py [--steps 100] [--spread]
-        [--cells koala:lift:edge:1,head:lift:edge:0.5] [--markdown docs/benchmarks.md]
-        [--from-json bench/results/spectrum.json --markdown docs/benchmarks.md]
-Writes bench/results/spectrum.json (and its section of the Markdown file).
+        [--cells koala:lift:edge:1,head:lift:edge:0.5] [--json bench/results/spectrum.json]
+Writes bench/results/spectrum.json; bench/report.py puts the table into docs/benchmarks.md.
 """
 import argparse
 import json
@@ -34,9 +33,9 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
-from bench_convergence import KOALA, SAMPLES, diag, edit  # noqa: E402
+from bench_convergence import SAMPLES  # noqa: E402
+from edits import diagonal, edit, mesh_path as find_mesh  # noqa: E402
 from machine import machine_info  # noqa: E402
-from md_section import replace_section  # noqa: E402
 
 DEFAULT_CELLS = ("spot:lift:edge:0.5,dino:lift:edge:0.5,head:lift:edge:1,head:lift:edge:0.5,"
                  "head:lift:edge:0,koala:lift:edge:1,koala:lift:edge:0.5")
@@ -45,7 +44,8 @@ FD_STEP = 1e-5  # finite-difference step, / diag: far above round-off, far below
 
 
 def mesh_path(name):
-    return KOALA if name == "koala" else ROOT / "blend_samples" / "meshes" / SAMPLES[name]
+    """"koala" or a sample's short name (bench_convergence.SAMPLES)."""
+    return find_mesh("koala.obj" if name == "koala" else SAMPLES[name])
 
 
 def problem(ed, cell):
@@ -58,7 +58,7 @@ def problem(ed, cell):
     d.set_stiffness(lam)
     free = np.ones(len(V), bool)
     free[handles] = free[static] = False
-    return d, targets, free, diag(V)
+    return d, targets, free, diagonal(V)
 
 
 def reference(d, targets):
@@ -135,8 +135,6 @@ def cell_label(r):
 def markdown(result):
     m = result["machine"]
     lines = [
-        "### Why the slow cells are slow: the one-step map's spectrum (bench/bench_spectrum.py)",
-        "",
         f"Machine: {m['cpu']}, {m['cores']} cores (load {m['load_1min']:.1f}), {m['date']}. "
         f"Arnoldi with {result['steps']} finite-difference products of the package's one-step map G "
         "at the reference (a cold default solve run to tolerance 1e-10, at most 6000 iterations); "
@@ -169,15 +167,10 @@ def main(argv=None):
     ap.add_argument("--steps", type=int, default=100, help="Arnoldi steps per cell")
     ap.add_argument("--spread", action="store_true",
                     help="also compare references computed with 1 and 2 solver threads")
-    ap.add_argument("--markdown", default=None)
     ap.add_argument("--json", default=str(HERE / "results" / "spectrum.json"))
-    ap.add_argument("--from-json", default=None, help="only rewrite the Markdown from this JSON")
     ap.add_argument("--reference-only", default=None, help=argparse.SUPPRESS)
     ap.add_argument("--out", default=None, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
-    if args.from_json:
-        replace_section(args.markdown, "spectrum", markdown(json.loads(Path(args.from_json).read_text())))
-        return
     import edgedeform as ed
     if args.reference_only:  # child of --spread: one reference, with this process's threads
         name, edit_name, domain, lam = args.reference_only.split(":")
@@ -185,16 +178,14 @@ def main(argv=None):
         X, its, res, _ = reference(d, targets)
         np.savez(args.out, X=X, iterations=its, residual=res)
         return
-    result = {"machine": machine_info(), "steps": args.steps, "rows": []}
+    result = {"machine": machine_info(), "steps": args.steps, "rows": [],
+              "command": "bench/bench_spectrum.py " + " ".join(argv or sys.argv[1:])}
     for cell_text in args.cells.split(","):
         result["rows"].append(run_cell(ed, cell_text, args.steps, args.spread,
                                        lambda s: print(s, flush=True)))
-    Path(args.json).parent.mkdir(exist_ok=True)
+    Path(args.json).parent.mkdir(parents=True, exist_ok=True)
     Path(args.json).write_text(json.dumps(result, indent=1))
-    text = markdown(result)
-    print(text)
-    if args.markdown:
-        replace_section(args.markdown, "spectrum", text)
+    print(markdown(result))
 
 
 if __name__ == "__main__":

@@ -33,7 +33,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from edits import SHARED_MESHES, lift_edit  # noqa: E402
+from edits import lift_edit, mesh_path  # noqa: E402
 from machine import machine_info  # noqa: E402
 
 MODES = ("fresh", "add", "remove", "final")
@@ -49,7 +49,7 @@ def workload(mesh, mode):
     from bench_core import belt_group
     from edgedeform.mesh_files import read_mesh
 
-    V, F = read_mesh(str(SHARED_MESHES / mesh))
+    V, F = read_mesh(str(mesh_path(mesh)))
     handles, static, targets, ax = lift_edit(V)
     belt = belt_group(V, ax)
     belt = belt[~np.isin(belt, handles) & ~np.isin(belt, static)]

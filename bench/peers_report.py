@@ -1,11 +1,9 @@
 """Tables, ratios, plot and Markdown section of bench/bench_peers.py's results."""
 
-import shutil
 from pathlib import Path
 
 import numpy as np
 
-from md_section import replace_section
 
 LABELS = {
     "edgedeform_edge_0.5": "edgedeform edge λ=0.5",
@@ -253,18 +251,12 @@ def _verdicts(result):
     return "\n".join(out)
 
 
-def write_markdown(result, md_path, plot_path, section="peers",
-                   heading="## Peers: CGAL, libigl, Blender Laplacian Deform (bench/bench_peers.py)"):
-    md_path = Path(md_path)
-    img = md_path.parent / "img" / f"bench_{section.replace('-', '_')}.png"
-    if plot_path and Path(plot_path).exists():
-        img.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(plot_path, img)
+def markdown(result):
+    """The peers section's body (bench/report.py gives it its heading)."""
     m, s, bi = result["machine"], result["settings"], result.get("build_info", {})
     versions = sorted({r["version"] for r in result["rows"] if r.get("version")})
     skipped = "".join(f"\n- skipped {k}: {v}" for k, v in result.get("skipped", {}).items())
-    body = f"""{heading}
-
+    body = f"""
 Machine: {m['cpu']}, {m['cores']} cores, **shared with other work while this ran** (1-minute
 load average when each row finished is in bench/results/peers.json; {m.get('load_1min', 0):.1f}
 at the end), so absolute times are noisy; ratios compare runs made minutes apart in one
@@ -296,8 +288,6 @@ its own process:
   update, one warm-started iteration (accelerated when available); compared with one
   Blender frame.
 
-![peers](img/{img.name})
-
 {method_table(result['rows'])}
 
 Ratios per iteration, ours / peer (below 1: ours faster), wall clock and CPU time (all
@@ -317,4 +307,4 @@ Issue 8 targets this benchmark measures:
 Commands (after `bench/setup_peers.sh`; rows merge across runs):
 {chr(10).join('- `PYTHONPATH=build/python /usr/bin/python3 ' + c + '`' for c in result.get('commands', []))}
 """
-    replace_section(md_path, section, body)
+    return body
