@@ -1,10 +1,9 @@
 #!/usr/bin/env python3
 """Live settling: how long the add-on's Live Deform takes to settle after the mouse stops.
 
-Replays what Live does on its 60 Hz timer (addon/edge_deform/operators_live.py,
-engine.IterationBudget): each tick one warm solve with the controllers' current targets,
-at most the settings' iterations (4) and no more than fit in 40 ms by the last tick's
-cost (at least one). The scripted drag moves the handles from rest to the lift's targets
+Replays what Live does on its 60 Hz timer (addon/edge_deform/operators_live.py) with the
+add-on's own settle policy (addon/edge_deform/settle.py, loaded by its path): each tick
+warm solves with the controllers' current targets for the policy's time budget. The scripted drag moves the handles from rest to the lift's targets
 in small equal steps, one per tick; then the targets stand still and the ticks go on
 until the solve reports converged (warm solves with unchanged targets continue the same
 accelerated iteration). Reported: ticks, iterations, the core's ms (local + rhs + solve),
@@ -21,6 +20,7 @@ takes thousands of iterations; it is cached in bench/results/cache/ (not committ
 """
 
 import argparse
+import importlib.util
 import json
 import os
 import sys
@@ -39,8 +39,11 @@ from machine import machine_info  # noqa: E402
 
 MESHES = {"koala": "koala.obj", "spot": "spot_low_resolution.obj", "dino": "cgal_dino.off"}
 TIMER_MS = 1000.0 / 60.0       # Live's timer (op_common.ModalTool)
-TICK_BUDGET_MS = 40.0          # engine.IterationBudget
-SETTINGS_ITERATIONS = 4        # the add-on's default Iterations setting
+# The add-on's settle policy (bpy-free): the tick's time budget, "settled", the give-up.
+_spec = importlib.util.spec_from_file_location(
+    "edge_deform_settle", ROOT / "addon" / "edge_deform" / "settle.py")
+settle = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(settle)
 TOLERANCE = 1e-3               # the add-on's default Tolerance setting
 # The distance estimate's memory of secant ratios (ConvergenceMonitor::kWindow), recorded
 # because it decides when a settle is claimed.
@@ -48,32 +51,36 @@ RATE_MEMORY = 32
 MAX_SETTLE_TICKS = 3000      # then reported as not settled
 
 
-class Budget:
-    """engine.IterationBudget, without bpy."""
+class TickResult:
+    """One tick's chunks (settle.Settle.tick may call solve several times) as one result."""
 
-    def __init__(self):
-        self.ms_per_iteration = None
-
-    def iterations(self):
-        if not self.ms_per_iteration:
-            return 1
-        return max(1, min(SETTINGS_ITERATIONS, int(TICK_BUDGET_MS / self.ms_per_iteration)))
-
-    def record(self, r, ms):
-        self.ms_per_iteration = ms / max(1, r.iterations)
+    def __init__(self, results):
+        last = results[-1]
+        self.positions, self.converged = last.positions, last.converged
+        self.distance_estimate = last.distance_estimate
+        self.iterations = sum(r.iterations for r in results)
+        self.local_ms = sum(r.local_ms for r in results)
+        self.rhs_ms = sum(r.rhs_ms for r in results)
+        self.solve_ms = sum(r.solve_ms for r in results)
 
 
 def core_ms(r):
     return float(r.local_ms + r.rhs_ms + r.solve_ms)
 
 
-def tick(d, targets, budget):
+def tick(d, targets, budget, moving=False):
+    chunks = []
+
+    def solve(n):
+        chunks.append(d.solve(targets, max_iterations=n, tolerance=TOLERANCE,
+                              warm_start=True))
+        return chunks[-1]
+    if moving:
+        budget.changed()
     t0 = time.perf_counter()
-    r = d.solve(targets, max_iterations=budget.iterations(), tolerance=TOLERANCE,
-                warm_start=True)
+    budget.tick(solve, moving)
     wall = (time.perf_counter() - t0) * 1e3
-    budget.record(r, wall)
-    return r, wall
+    return TickResult(chunks), wall
 
 
 def run(mesh, domain, lam, drag_ticks, log):
@@ -91,11 +98,11 @@ def run(mesh, domain, lam, drag_ticks, log):
         f"{time.perf_counter() - t0:.0f} s")
     d.set_stiffness(0.25 if lam != 0.25 else 0.3)   # bind anew: the first tick factorizes
     d.set_stiffness(lam)
-    budget = Budget()
+    budget = settle.Settle(limit=10 ** 9)   # (this replay stops at MAX_SETTLE_TICKS)
     r = d.solve(V[handles], max_iterations=1, tolerance=TOLERANCE, warm_start=False)  # bind
     drag = {"ticks": drag_ticks, "iterations": 0, "core_ms": 0.0}
     for k in range(1, drag_ticks + 1):       # the mouse moves: new targets every tick
-        r, _ = tick(d, V[handles] + (k / drag_ticks) * (final - V[handles]), budget)
+        r, _ = tick(d, V[handles] + (k / drag_ticks) * (final - V[handles]), budget, True)
         drag["iterations"] += r.iterations
         drag["core_ms"] += core_ms(r)
     drag["distance_when_stopped"] = float(
@@ -135,8 +142,8 @@ def markdown(result):
         f"(load {machine['load_1min']:.1f}), {machine['date']}. Iteration and tick counts are "
         "exact; times are noisy.",
         "",
-        "Live Deform replayed without Blender: a 60 Hz tick runs one warm solve of at most 4 "
-        "iterations and no more than fit in 40 ms (at least one). The drag lifts the handles "
+        "Live Deform replayed without Blender: a 60 Hz tick warm solves for the add-on's "
+        f"time budget (settle.py: {settle.TICK_BUDGET_MS:g} ms on a quick redraw). The drag lifts the handles "
         "to the lift edit's targets in equal steps, one per tick; then the targets stand "
         "still and ticks go on until the solve reports converged. Wall = Σ max(1/60 s, tick's "
         "solve time), without writing the mesh. Distance: the settled shape to the cold "

@@ -1,17 +1,16 @@
-"""Turn the object's settings into solver inputs and controller targets; solve; describe.
+"""Turn the object's settings into solver inputs and controller targets; describe results.
 
 Pure reading and arithmetic: nothing here writes bpy data (lifecycle.py owns the rest
-shape and the output). bpy data is read only through mesh_arrays.
+shape, the output and the controllers' rest transforms). Mesh data is read only through
+mesh_arrays; settings and transforms are read as attributes.
 """
 
-import math
-from dataclasses import dataclass, field
-from typing import List, Optional
+from dataclasses import dataclass
+from typing import List
 
-import bpy
 import numpy as np
 
-from . import mesh_arrays
+from . import mesh_arrays, native
 
 
 class EdgeDeformError(Exception):
@@ -22,7 +21,7 @@ class EdgeDeformError(Exception):
 class HandleInput:
     group: str
     indices: np.ndarray
-    controller: Optional[bpy.types.Object]
+    controller: object         # bpy.types.Object, or None
     rest_inverse: object       # mathutils.Matrix: inverse of the controller's rest
 
 
@@ -32,9 +31,8 @@ class Inputs:
     handle_groups: List[HandleInput]
     handles: np.ndarray
     static: np.ndarray
-    roi: Optional[np.ndarray]
+    roi: object                # (k,) int64, or None: the whole mesh
     stiffness: object          # float or (n,) float64
-    groups_key: tuple = field(default=())
 
 
 def _members(weights):
@@ -109,13 +107,6 @@ def controller_rest(ob, controller):
     return ob.matrix_world.inverted_safe() @ controller.matrix_world
 
 
-def record_rest_transforms(ob):
-    """The controllers' current transforms become their rest (Bind, Apply)."""
-    for h in ob.edge_deform.handles:
-        if h.controller is not None:
-            h.rest_matrix = controller_rest(ob, h.controller)
-
-
 def missing_controllers(inputs):
     """Warnings for handles without a controller (e.g. the controller was deleted)."""
     return ["Handle '%s' has no controller (deleted?): it stays at its rest position"
@@ -150,63 +141,62 @@ def controller_state(ob, inputs):
         for g in inputs.handle_groups)
 
 
-class IterationBudget:
-    """Iterations per tick for the modal tools: at most `iterations`, and no more than fit
-    in `budget_ms` (at least two), so a large mesh stays responsive; the tools keep
-    iterating on later ticks until the solve converges."""
-
-    def __init__(self, budget_ms=40.0):
-        self.budget_ms = budget_ms
-        self.ms_per_iteration = None
-
-    def iterations(self, limit):
-        # At least two: warm solve calls of one iteration each follow the same iterates
-        # but may not report convergence (measured on the plane, a shear-and-bend at
-        # λ 0.5: still unconverged after 1500 one-iteration calls, where calls of 2 or
-        # more stop at iteration 1519, as one long call does). A 50k mesh at ~43 ms an
-        # iteration got one iteration a tick and might never settle.
-        least = min(2, int(limit))
-        if not self.ms_per_iteration:
-            return least        # first tick: measure
-        return max(least, min(int(limit), int(self.budget_ms / self.ms_per_iteration)))
-
-    def record(self, result, elapsed_ms):
-        self.ms_per_iteration = elapsed_ms / max(1, result.iterations)
+# Accelerations of the solve, fastest first: (property item, the package's name). "newton"
+# is offered only when the package has it (docs/api.md); the others always are.
+ACCELERATIONS = (('NEWTON', "newton"), ('ANDERSON', "anderson"), ('NONE', "none"))
+_offered = []
 
 
-def status(result, elapsed_ms=None, iterations=None):
-    """The one place where a solve result becomes words for the user: (level, text) lines
-    for reports and headers, and whether the tools may stop iterating. `iterations` and
-    `elapsed_ms` may be totals over several solves (Live settles over many ticks)."""
-    # "settled" only when the solver's distance estimate says converged (docs/api.md).
-    count = result.iterations if iterations is None else iterations
-    text = "%s, %d iterations" % ("settled" if result.converged else "settling…", count)
-    if elapsed_ms is not None:
-        text += ", %.0f ms" % elapsed_ms if elapsed_ms >= 10 else ", %.1f ms" % elapsed_ms
-    lines = [('WARNING', w) for w in result.warnings]
-    return lines, text, bool(result.converged)
+def offered_accelerations():
+    """The package's names of the accelerations this build of `edgedeform` solves with:
+    "anderson" and "none" always, "newton" when a one-triangle solve accepts it (asked
+    once; ValueError names an unknown method)."""
+    if not _offered:
+        names = ["anderson", "none"]
+        try:
+            ed = native.get()
+            known = getattr(ed, "ACCELERATIONS", None)
+            if known is not None:
+                names = [a for _, a in ACCELERATIONS if a in known]
+            else:
+                d = ed.Deformer(np.eye(3), np.array([[0, 1, 2]]), domain="edge")
+                d.set_constraints(handles=np.array([0]))
+                try:
+                    d.solve(np.zeros((1, 3)), max_iterations=1, acceleration="newton")
+                    names.insert(0, "newton")
+                except ValueError:
+                    pass
+        except ImportError:
+            return ["anderson", "none"]   # (asked again once the package loads)
+        _offered.extend(names)
+    return list(_offered)
 
 
-# The modal tools (Live, Grab) keep iterating on later ticks until the solve converges. Past
-# this many iterations since the last change they stop and say so, as a cold solve stops at
-# the package's default max_iterations: some shapes never report convergence (a mode that
-# does not contract: docs/benchmarks.md, "spectrum"; or a tolerance of 0), and an idle tool
-# must not keep a core busy and the mesh creeping for ever.
-SETTLE_LIMIT = 2000
+def acceleration(settings):
+    """The package's name for the settings' acceleration (an Acceleration stored in a file
+    from a build that had a method this one lacks reads as the fastest offered)."""
+    offered = offered_accelerations()
+    name = dict(ACCELERATIONS).get(settings.acceleration)
+    return name if name in offered else offered[0]
 
 
-def settle_status(result, elapsed_ms, iterations, resume_hint):
-    """status() for the modal tools, over the iterations since the last change: (header
-    text, whether to stop iterating until something changes)."""
-    _, text, converged = status(result, elapsed_ms, iterations)
-    if converged or iterations < SETTLE_LIMIT:
-        return text, converged
-    estimate = float(result.distance_estimate)
-    how_far = ("estimated %.0e of the size away" % estimate if math.isfinite(estimate)
-               else "distance unknown")
-    # (Worded without "settled", which the header shows only for a converged solve.)
-    return ("stopped after %d iterations, not converged (%s); %s to go on"
-            % (iterations, how_far, resume_hint)), True
+def solve_report(result, waited_s, iterations):
+    """A Solve's result in the artist's words: (details for the Info log, the summary).
+    `iterations` is the total over Solve's chunks; `waited_s` the time the artist waited.
+    The package's own "not converged" text counts one chunk and speaks of fixed points:
+    it is replaced by figures in the details."""
+    warnings = [w for w in result.warnings if not w.startswith("not converged")]
+    details = [('WARNING', w) for w in warnings]
+    details.append(('INFO', "Solve details: %d iterations, estimated distance to the "
+                            "settled shape %.2g of the object's size"
+                    % (iterations, float(result.distance_estimate))))
+    if result.converged:
+        summary = "Solved: the shape settled (%d iterations, %.1f s)" % (iterations, waited_s)
+    else:
+        summary = ("Solved %d iterations (%.1f s), but the shape has not settled yet: raise "
+                   "Iterations (Solver panel), make a smaller move, or use Live Deform to let "
+                   "it settle" % (iterations, waited_s))
+    return details, summary
 
 
 # Exceptions an operator turns into a report; the package's FactorizationError is a

@@ -32,7 +32,7 @@ import time
 import bpy
 import numpy as np
 
-from . import engine, mesh_arrays, native, session
+from . import engine, mesh_arrays, native, session, settle
 
 REST_ATTRIBUTE = ".edge_deform_rest"
 STATE_FIELDS = ("output", "output_key", "made_key_datablock", "topology", "written", "base",
@@ -130,7 +130,7 @@ def _to_end(steps):
             return done.value
 
 
-def _graph_steps(binding, inputs, what, fractions=(0.0, 0.5)):
+def _graph_steps(binding, inputs, what, fractions, owner):
     """Build `binding`'s graph for inputs.domain and factor it: yields (fraction, text)
     before each of these two long stages (the status text names the work)."""
     graph = "edge" if inputs.domain == 'EDGE' else "vertex"
@@ -142,11 +142,11 @@ def _graph_steps(binding, inputs, what, fractions=(0.0, 0.5)):
     yield fractions[1], "%s: factoring %s graph nodes…" % (
         what, _count(binding.deformer.n_nodes))
     t0 = time.perf_counter()
-    binding.sync(native.get(), inputs)
+    binding.sync(native.get(), inputs, owner)
     binding.bind_ms = build_ms + (time.perf_counter() - t0) * 1e3
 
 
-def _binding_steps(mesh, inputs, X, digest, what, fractions):
+def _binding_steps(mesh, inputs, X, digest, what, fractions, owner):
     """The cached Binding of `mesh` for this rest shape and domain; a stale one (or one of
     the other domain) is replaced by a new Binding built in stages (_graph_steps). The
     cache keeps the old one until the new one is complete, so closing the generator
@@ -155,24 +155,24 @@ def _binding_steps(mesh, inputs, X, digest, what, fractions):
     binding = session.get(pointer)
     if (binding is not None and binding.digest == digest
             and binding.rest_key == session.rest_key(X) and binding.domain == inputs.domain):
-        binding.sync(native.get(), inputs)
+        binding.sync(native.get(), inputs, owner)
         return binding
     F = mesh_arrays.read_triangles(mesh)
     if F.shape[0] == 0:
         raise Refused("The mesh has no faces")
     binding = session.Binding(pointer, mesh_arrays.topology_counts(mesh), digest, X, F)
-    yield from _graph_steps(binding, inputs, what, fractions)
+    yield from _graph_steps(binding, inputs, what, fractions, owner)
     session.put(binding)
     return binding
 
 
-class Bound:
-    """A mesh checked and bound for one object's settings: what a tool holds while it
-    solves. `write` is the only way a result reaches the mesh."""
+class ObjectSolver:
+    """One object's settings tied to its mesh's Binding, after every check: what a tool
+    holds while it solves. `write` is the only way a result reaches the mesh."""
 
     def __init__(self, ob, inputs, binding, base_hash):
         self.ob, self.inputs, self.binding = ob, inputs, binding
-        self.base_hash = base_hash   # the base cannot change while a Bound is in use
+        self.base_hash = base_hash   # the base cannot change while an ObjectSolver is used
         self.output = output_settings(ob)   # what the checks were made for
 
     def warnings(self):
@@ -185,32 +185,20 @@ class Bound:
         """One solve; warm-starts from this binding's previous result when allowed (with
         unchanged targets that continues the same accelerated iteration, so a drag that
         stops settles on the cold solve's shape)."""
-        deformer = self.binding.deformer
-        acceleration = self.ob.edge_deform.acceleration.lower()
-        if initial is not None:
-            r = deformer.solve(targets, max_iterations=int(iterations),
-                               tolerance=float(tolerance), warm_start=False, initial=initial,
-                               acceleration=acceleration)
-        else:
-            r = deformer.solve(targets, max_iterations=int(iterations),
-                               tolerance=float(tolerance),
-                               warm_start=bool(warm and self.binding.last is not None),
-                               acceleration=acceleration)
-        self.binding.last = r
-        return r
+        return self.binding.solve(targets, iterations, tolerance,
+                                  engine.acceleration(self.ob.edge_deform), warm, initial)
 
     def settings_changed(self):
         """Follow a change of the global λ or the domain (Live Deform's keys)."""
         self.inputs = engine.with_global_changes(self.inputs, self.ob)
-        self.binding.sync(native.get(), self.inputs)
+        self.binding.sync(native.get(), self.inputs, self.ob.name_full)
 
-    def use_constraints(self, handles, static, roi):
-        """Temporary constraints (Grab Deform); `release` returns to the settings'."""
-        self.binding.use_constraints(handles, static, roi)
+    def hold_grab(self, handles, static, roi):
+        """Grab Deform's constraints; `release_grab` returns to the settings'."""
+        self.binding.hold_grab(handles, static, roi)
 
-    def release(self):
-        self.binding.constraint_key = None
-        self.binding.last = None
+    def release_grab(self):
+        self.binding.release_grab()
 
     def write(self, X):
         if output_settings(self.ob) != self.output:
@@ -227,17 +215,17 @@ def prepare_steps(ob, inputs=None, require_handles=True, what=None,
                   fractions=(0.0, 0.5)):
     """Check the object and its mesh and bind: a generator that yields (fraction, text)
     before building and factoring a graph when the cached one cannot be used (a new
-    domain, rest or topology), and returns a Bound ready to solve, or raises Refused
+    domain, rest or topology), and returns an ObjectSolver ready to solve, or raises Refused
     before anything changes. `what` starts the status texts."""
     if inputs is None:
         inputs = engine.gather_inputs(ob, require_handles=require_handles)
     mesh = ob.data
     digest = mesh_arrays.topology_digest(mesh)
     _check_output(ob, digest)
+    # (The owner: a linked duplicate has settings of its own.)
     binding = yield from _binding_steps(mesh, inputs, _rest(mesh), digest,
-                                        what or "'%s'" % ob.name, fractions)
-    binding.inputs_owner = ob.name_full   # a linked duplicate has settings of its own
-    return Bound(ob, inputs, binding, _hash(mesh_arrays.read_positions32(mesh)))
+                                        what or "'%s'" % ob.name, fractions, ob.name_full)
+    return ObjectSolver(ob, inputs, binding, _hash(mesh_arrays.read_positions32(mesh)))
 
 
 def prepare(ob, inputs=None, require_handles=True):
@@ -248,48 +236,44 @@ def prepare(ob, inputs=None, require_handles=True):
 def cached_inputs(ob):
     """The inputs of this object's last sync (playback: groups cannot change), or None."""
     binding = session.get(ob.data.as_pointer())
-    if (binding is None or binding.inputs is None or binding.constraint_key == "temporary"
-            or binding.inputs_owner != ob.name_full
-            or binding.counts != mesh_arrays.topology_counts(ob.data)):
+    inputs = None if binding is None else binding.inputs_of(ob.name_full)
+    if inputs is None or binding.counts != mesh_arrays.topology_counts(ob.data):
         return None
-    return engine.with_global_changes(binding.inputs, ob)
+    return engine.with_global_changes(inputs, ob)
 
 
 def deform_steps(ob, chunk_ms=100.0):
     """Solve from scratch in chunks of iterations, for a Solve that Esc can stop: a
     generator yielding (fraction, text) between chunks; writes only after the last chunk
-    and returns (Bound, SolveResult of the last chunk, iterations in all). The chunks
+    and returns (ObjectSolver, SolveResult of the last chunk, iterations in all). The chunks
     continue one iteration (warm starts with unchanged targets keep the Anderson history,
     docs/api.md), so the result is the one-call `deform(ob)`'s."""
     s = ob.edge_deform
     # A graph to build first (the domain changed since the last solve) is named in the
     # status; the progress then follows the iterations.
-    bound = yield from prepare_steps(ob, what="Deforming '%s'" % ob.name,
-                                     fractions=(0.0, 0.0))
-    targets, limit, done = bound.targets(), int(s.iterations), 0
-    budget = engine.IterationBudget(chunk_ms)
+    solver = yield from prepare_steps(ob, what="Deforming '%s'" % ob.name,
+                                      fractions=(0.0, 0.0))
+    targets, limit, done, ms_per_iteration = solver.targets(), int(s.iterations), 0, None
     while True:
         yield done / max(1, limit), "Deforming '%s': %d/%d iterations…" % (ob.name, done, limit)
-        n = min(budget.iterations(limit), limit - done)
-        if limit - done - n == 1:
-            n += 1   # no one-iteration chunk at the end (it may not see convergence)
+        n = settle.iterations_within(chunk_ms, ms_per_iteration, most=limit - done)
         t0 = time.perf_counter()
-        r = bound.solve(targets, n, s.tolerance, warm=done > 0)
-        budget.record(r, (time.perf_counter() - t0) * 1e3)
+        r = solver.solve(targets, n, s.tolerance, warm=done > 0)
+        ms_per_iteration = (time.perf_counter() - t0) * 1e3 / max(1, r.iterations)
         done += r.iterations
-        if r.converged or done >= limit or r.iterations < n:
+        if settle.is_settled(r) or done >= limit or r.iterations < n:
             break
-    bound.write(r.positions)
-    return bound, r, done
+    solver.write(r.positions)
+    return solver, r, done
 
 
 def deform(ob, warm=False, reuse_inputs=False, iterations=None):
-    """Bind if needed, solve from the controllers, write: (Bound, SolveResult)."""
+    """Bind if needed, solve from the controllers, write: (ObjectSolver, SolveResult)."""
     s = ob.edge_deform
-    bound = prepare(ob, cached_inputs(ob) if reuse_inputs else None)
-    r = bound.solve(bound.targets(), iterations or s.iterations, s.tolerance, warm=warm)
-    bound.write(r.positions)
-    return bound, r
+    solver = prepare(ob, cached_inputs(ob) if reuse_inputs else None)
+    r = solver.solve(solver.targets(), iterations or s.iterations, s.tolerance, warm=warm)
+    solver.write(r.positions)
+    return solver, r
 
 
 def shown_positions(ob):
@@ -328,6 +312,7 @@ def _write(ob, binding, X, base_hash):
             kb.value, kb.mute = 1.0, False      # later: the user's mix is left alone
             ob.active_shape_key_index = active
         mesh_arrays.write_key(kb, co)
+        _show_live_instead_of_baked(mesh, kb)
         _set(st, output='SHAPE_KEY', output_key=kb.name, written=_hash(co), base=base_hash)
         mesh.shape_keys.update_tag()
     else:
@@ -337,6 +322,21 @@ def _write(ob, binding, X, base_hash):
         _set(st, output='MESH', output_key="", written=_hash(co))
     _set(st, topology=binding.digest)
     mesh.update()
+
+
+def _show_live_instead_of_baked(mesh, live):
+    """The live key and the baked keys never add up: a new result in the live key mutes
+    the add-on's baked keys and shows the live key (Bake set it to 0); Bake does the
+    reverse (write_baked). Esc of a tool puts every key's value and mute back."""
+    baked = [mesh.shape_keys.key_blocks.get(n) for n in baked_key_names(mesh)]
+    baked = [kb for kb in baked if kb is not None]
+    if not baked:
+        return
+    for kb in baked:
+        if not kb.mute:
+            kb.mute = True
+    if live.value == 0.0:
+        live.value = 1.0
 
 
 def _move_base(mesh, co, skip=()):
@@ -382,6 +382,10 @@ def write_baked(ob, frames, results, step):
             kb.keyframe_insert("value", frame=frame)
     ob.active_shape_key_index = min(active, len(mesh.shape_keys.key_blocks) - 1)
     st.baked_keys = "\n".join(sorted(ours | set(names)))
+    for name in ours:   # (a result written since the last bake muted them)
+        kb = mesh.shape_keys.key_blocks.get(name)
+        if kb is not None and kb.mute:
+            kb.mute = False
     live = owned_key(mesh)
     if live is not None:
         live.value = 0.0   # the baked keys replace the live result
@@ -411,14 +415,15 @@ def bind_steps(ob):
         raise Refused("The mesh has no faces")
     binding = session.Binding(mesh.as_pointer(), mesh_arrays.topology_counts(mesh), digest,
                               X, F)
-    yield from _graph_steps(binding, inputs, "Binding '%s'" % ob.name, (0.2, 0.4))
+    yield from _graph_steps(binding, inputs, "Binding '%s'" % ob.name, (0.2, 0.4),
+                            ob.name_full)
     session.put(binding)   # (replaces the mesh's old binding)
     st = _state(mesh)
     if st.output == 'MESH':   # the base holds the shape the user accepts as the new rest
         mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
         st.output, st.written = 'NONE', ""
     st.topology = digest
-    engine.record_rest_transforms(ob)
+    record_rest_transforms(ob)
     return binding
 
 
@@ -442,7 +447,7 @@ def apply(ob):
         _apply_key(ob, owned_key(mesh))
     mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
     st.output, st.output_key, st.written, st.base = 'NONE', "", "", ""
-    engine.record_rest_transforms(ob)
+    record_rest_transforms(ob)
     session.drop(mesh.as_pointer())
     mesh.update()
 
@@ -497,10 +502,17 @@ def unbind(ob):
 
 
 def forget_cache(mesh):
-    """Drop the in-memory solver state (a tool ended or was cancelled)."""
+    """The next solve of this mesh starts cold (a tool ended or was cancelled)."""
     binding = session.get(mesh.as_pointer())
     if binding is not None:
-        binding.last = None
+        binding.start_cold()
+
+
+def record_rest_transforms(ob):
+    """The controllers' current transforms become their rest (Bind, Apply)."""
+    for h in ob.edge_deform.handles:
+        if h.controller is not None:
+            h.rest_matrix = engine.controller_rest(ob, h.controller)
 
 
 # ------------------------------------------------------------------ cancel: exact restore

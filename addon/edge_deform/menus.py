@@ -27,8 +27,10 @@ def _object_menu(self, context):
 def _edit_vertex_menu(self, context):
     layout = self.layout
     layout.separator()
+    layout.operator("edge_deform.grab", text="Grab Deform", icon='VIEW_PAN')
     layout.operator("edge_deform.add_handle", text="Add Edge Deform Handle")
     layout.operator("edge_deform.set_static", text="Set Edge Deform Static")
+    layout.operator("edge_deform.set_roi", text="Set Edge Deform Region")
     layout.operator_menu_enum("edge_deform.assign_stiffness", "preset",
                               text="Assign Edge Deform Stiffness")
 

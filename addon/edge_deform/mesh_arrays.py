@@ -76,6 +76,17 @@ def read_selection(ob):
     return sel
 
 
+def selected_face_vertices(mesh):
+    """The vertices of the selected faces (Weight Paint's face mask), sorted, int64."""
+    sel = np.zeros(len(mesh.polygons), bool)
+    mesh.polygons.foreach_get("select", sel)
+    total = np.zeros(len(mesh.polygons), np.int64)
+    mesh.polygons.foreach_get("loop_total", total)
+    corners = np.zeros(len(mesh.loops), np.int64)
+    mesh.loops.foreach_get("vertex_index", corners)
+    return np.unique(corners[np.repeat(sel, total)])
+
+
 def matrix_to_numpy(matrix):
     return np.array(matrix, dtype=np.float64)
 

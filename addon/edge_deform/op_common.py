@@ -9,9 +9,25 @@ import bpy
 from . import compat, engine
 
 
-def poll_mesh(cls, context, modes=None, need_handles=False):
-    """True for an active mesh object in one of `modes`; explains itself otherwise."""
+def deformed_object(context):
+    """The mesh a tool works on: the active mesh, or the mesh whose handle the active
+    object controls (the artist picked a controller to move it). None when neither."""
     ob = context.active_object
+    if ob is None:
+        return None
+    if ob.type == 'MESH':
+        return ob
+    for other in context.scene.objects:
+        s = getattr(other, "edge_deform", None) if other.type == 'MESH' else None
+        if s is not None and any(h.controller == ob for h in s.handles):
+            return other
+    return None
+
+
+def poll_mesh(cls, context, modes=None, need_handles=False, follow_controller=False):
+    """True for an active mesh object in one of `modes` (or, with follow_controller, the
+    mesh of the active controller); explains itself otherwise."""
+    ob = deformed_object(context) if follow_controller else context.active_object
     msg = None
     if ob is None or ob.type != 'MESH':
         msg = "Select a mesh object"
@@ -220,6 +236,16 @@ def set_header(area, text):
         pass
 
 
+def redraw_views(context):
+    """Redraw every 3D viewport (its sidebar too): the panel shows state that changed
+    without a redraw of its own (bound, a tool ended)."""
+    wm = getattr(context, "window_manager", None)
+    for window in (wm.windows if wm is not None else ()):
+        for area in window.screen.areas:
+            if area.type == 'VIEW_3D':
+                area.tag_redraw()
+
+
 def report_lines(op, lines):
     for level, text in lines:
         tell(op, level, text)
@@ -312,8 +338,9 @@ class ModalTool:
             context.window_manager.event_timer_remove(self.timer)
         except (ReferenceError, ValueError):
             pass
-        self.header(None)
-        compat.status_bar(self.workspace, None)
+        if getattr(self, "header_text", None) is not None:
+            self.header(None)   # (Live never sets it: the header stays Blender's)
+        redraw_views(context)   # the panel stops saying the tool runs
 
     def restore(self, context):
         """Esc: the mesh back bit-exact (leaving Edit Mode first if the user entered it).

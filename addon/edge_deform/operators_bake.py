@@ -7,7 +7,8 @@ from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, IntProperty
 
 from . import engine, lifecycle
-from .op_common import StepsJob, error_text, guarded, poll_mesh, run_steps, tell
+from .op_common import (StepsJob, deformed_object, error_text, guarded, poll_mesh, run_steps,
+                        tell)
 
 _state = {"baking": False, "errors": {}}
 
@@ -34,8 +35,8 @@ def on_frame_change(scene, depsgraph=None):
                 or ob.mode != 'OBJECT':
             continue
         try:
-            bound, _ = lifecycle.deform(ob, warm=True, reuse_inputs=playing)
-            problem = "; ".join(bound.warnings()) or None
+            solver, _ = lifecycle.deform(ob, warm=True, reuse_inputs=playing)
+            problem = "; ".join(solver.warnings()) or None
         except Exception as exc:  # noqa: BLE001 - a handler must never raise
             problem = error_text(exc)
         if problem is None:
@@ -63,7 +64,7 @@ class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return poll_mesh(cls, context, ('OBJECT',), need_handles=True)
+        return poll_mesh(cls, context, ('OBJECT',), need_handles=True, follow_controller=True)
 
     def frames(self, scene):
         start, end = ((scene.frame_start, scene.frame_end) if self.use_scene_range
@@ -74,20 +75,20 @@ class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
 
     def begin(self, context):
         """Check and bind; nothing is written before every frame is solved."""
-        self.ob, self.scene = context.active_object, context.scene
+        self.ob, self.scene = deformed_object(context), context.scene
         self.todo = self.frames(self.scene)
         self.frame0 = self.scene.frame_current
         self.results = []
-        self.bound = lifecycle.prepare(self.ob)
-        self.bound.binding.last = None   # the first frame solves from scratch
+        self.solver = lifecycle.prepare(self.ob)
+        self.solver.binding.start_cold()   # the first frame solves from scratch
 
     def solve_next(self):
         """Solve the next frame (the frame handler is held off meanwhile)."""
         _state["baking"] = True
         try:
             self.scene.frame_set(self.todo[len(self.results)])
-            self.results.append(self.bound.solve(self.bound.targets(), self.iterations,
-                                                 self.ob.edge_deform.tolerance).positions)
+            self.results.append(self.solver.solve(self.solver.targets(), self.iterations,
+                                                  self.ob.edge_deform.tolerance).positions)
         finally:
             self.scene.frame_set(self.frame0)
             _state["baking"] = False

@@ -1,25 +1,43 @@
 """`grab`: drag the selected vertices in the view plane, the rest of the mesh follows.
 
-Like G in Edit Mode: X/Y/Z constrain the motion to a global axis (press again to free it),
-Enter/click confirms, Esc/right click restores. The mesh is shown in Object Mode while
-dragging (bpy can only write whole arrays there) and Edit Mode comes back at the end.
-Other handle groups stay where they are shown; static vertices and vertices outside the
-region stay at rest.
-"""
+Like G in Edit Mode: the motion follows the pointer in screen pixels from where it was
+when the tool started (started from the panel's button, from where the pointer first
+enters the viewport: nothing moves before), X/Y/Z constrain the motion to a global axis
+(press again to free it), Enter/click confirms, Esc/right click restores. The mesh is shown
+in Object Mode while dragging (bpy can only write whole arrays there) and Edit Mode comes
+back at the end, showing the dragged shape: with Output Shape Key the output key becomes
+the active key, the one Edit Mode shows and edits. Other handle groups stay where they are
+shown; static vertices and vertices outside the region stay at rest.
 
-import time
+A state machine (modal_states.Grab), with Live's settle policy (settle.py).
+"""
 
 import bpy
 import numpy as np
 from bpy_extras.view3d_utils import region_2d_to_location_3d
 from mathutils import Vector
 
-from . import engine, lifecycle, mesh_arrays
+from . import compat, engine, lifecycle, mesh_arrays, settle
+from .modal_states import Grab, GrabEvent, grab_next
 from .op_common import ModalTool, error_text, guarded, poll_mesh, tell
 
 AXES = {'X': 0, 'Y': 1, 'Z': 2}
 NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'TRACKPADPAN',
               'TRACKPADZOOM', 'NDOF_MOTION'}
+
+
+def view_region(context):
+    """The 3D view's main region the tool drags in (also when started from the sidebar,
+    whose own region has another size and origin): (region, its RegionView3D)."""
+    region = context.region
+    if region is not None and region.type == 'WINDOW':
+        return region, context.region_data
+    windows = [r for r in context.area.regions if r.type == 'WINDOW']
+    for r in windows:
+        if r.data == context.region_data:
+            return r, r.data
+    r = max(windows, key=lambda r: r.width * r.height)
+    return r, r.data
 
 
 class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
@@ -32,6 +50,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
     @classmethod
     def poll(cls, context):
         return (context.region_data is not None and context.window is not None
+                and context.area is not None and context.area.type == 'VIEW_3D'
                 and poll_mesh(cls, context, ('EDIT',)))
 
     @guarded
@@ -39,7 +58,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.refuse_if_running()
         ob = context.active_object
         moving = np.flatnonzero(mesh_arrays.read_selection(ob))
-        bound = None
+        solver = None
         try:
             if moving.size == 0:
                 raise engine.EdgeDeformError("Select the vertices to drag")
@@ -49,40 +68,56 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
                 moving = np.intersect1d(moving, inputs.roi)
             if moving.size == 0:
                 raise engine.EdgeDeformError("The selection is static or outside the region")
-            bpy.ops.object.mode_set(mode='OBJECT')
-            bound = lifecycle.prepare(ob, inputs)
+            compat.mode_set(ob, 'OBJECT')
+            solver = lifecycle.prepare(ob, inputs)
             current = lifecycle.shown_positions(ob)
             pinned = np.setdiff1d(inputs.handles, moving)
-            bound.use_constraints(np.concatenate([moving, pinned]), inputs.static, inputs.roi)
+            solver.hold_grab(np.concatenate([moving, pinned]), inputs.static, inputs.roi)
         except Exception:
-            if bound is not None:
-                bound.release()   # the settings' constraints return on the next sync
+            if solver is not None:
+                solver.release_grab()   # the settings' constraints return on the next sync
             if ob.mode != 'EDIT':
-                bpy.ops.object.mode_set(mode='EDIT')
+                compat.mode_set(ob, 'EDIT')
             raise
-        self.bound = bound
+        self.solver = solver
         self.current = current
         self.start = current[moving]
         self.pinned = current[pinned]
         self.n_moving = moving.size
         self.mw = mesh_arrays.matrix_to_numpy(ob.matrix_world)
         self.depth = ob.matrix_world @ Vector(self.start.mean(axis=0))
-        self.mouse0 = (event.mouse_region_x, event.mouse_region_y)
-        self.mouse = self.mouse0
+        self.region, self.rv3d = view_region(context)
+        self.mouse = self.in_region(event)
+        self.origin = self.mouse if self.inside(self.mouse) else None
+        self.state = Grab.DRAGGING if self.origin is not None else Grab.WAITING
         self.axis = None
-        self.dirty, self.at_rest, self.first = True, False, True
-        self.settle_iterations, self.settle_ms = 0, 0.0     # since the mouse last moved
+        self.first = True           # the first solve starts from what is shown
+        self.delta = np.zeros(3)
+        self.settle = settle.Settle()
         self.stats = ""
-        self.budget = engine.IterationBudget()
-        self.region, self.rv3d = context.region, context.region_data
         self.start_modal(context, ob)
         self.show()
         return {'RUNNING_MODAL'}
 
+    @property
+    def settle_iterations(self):
+        return self.settle.iterations
+
+    def go(self, event):
+        self.state = grab_next(self.state, event)
+
+    def in_region(self, event):
+        """The pointer in the view region's pixels (events from the sidebar count in
+        the sidebar's)."""
+        return (event.mouse_x - self.region.x, event.mouse_y - self.region.y)
+
+    def inside(self, xy):
+        return 0 <= xy[0] < self.region.width and 0 <= xy[1] < self.region.height
+
     def offset(self):
-        """Mouse motion since the start, in the view plane through the dragged vertices,
-        as an object-space vector."""
-        p0 = region_2d_to_location_3d(self.region, self.rv3d, self.mouse0, self.depth)
+        """Pointer motion since the origin, in the view plane through the dragged
+        vertices, as an object-space vector."""
+        p0 = region_2d_to_location_3d(self.region, self.rv3d, self.origin, self.depth)
         p1 = region_2d_to_location_3d(self.region, self.rv3d, self.mouse, self.depth)
         d = np.array(p1 - p0, np.float64)
         if self.axis is not None:
@@ -92,35 +127,40 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         return np.linalg.solve(self.mw[:3, :3], d)
 
     def update(self):
+        """One tick of solving: the pointer's targets, iterated for the tick's budget."""
         s = self.ob.edge_deform
-        t0 = time.perf_counter()
+        moving = self.state == Grab.DRAGGING
+        if moving:
+            self.settle.changed()
         self.delta = self.offset()
         targets = np.concatenate([self.start + self.delta, self.pinned])
-        iterations = self.budget.iterations(s.iterations)
-        if self.dirty:
-            self.settle_iterations, self.settle_ms = 0, 0.0
+
+        def solve(n):
+            initial = self.current if self.first else None
+            self.first = False
+            return self.solver.solve(targets, n, s.tolerance, warm=True, initial=initial)
         try:
-            # The first solve starts from what is shown, not from the rest shape.
-            r = self.bound.solve(targets, iterations, s.tolerance, warm=True,
-                                 initial=self.current if self.first else None)
-            self.budget.record(r, (time.perf_counter() - t0) * 1e3)
-            self.bound.write(r.positions)
+            r = self.settle.tick(solve, moving)
+            self.solver.write(r.positions)
         except Exception as exc:  # noqa: BLE001 - shown; the next move retries
             tell(self, 'ERROR', error_text(exc))
-            self.dirty, self.at_rest = False, True
+            self.go(GrabEvent.FAILED)
             return
-        self.first = False
-        self.dirty = False
-        self.settle_iterations += r.iterations
-        self.settle_ms += (time.perf_counter() - t0) * 1e3
-        self.stats, self.at_rest = engine.settle_status(r, self.settle_ms, self.settle_iterations,
-                                                        "move the mouse")
+        self.go(GrabEvent.SETTLED if self.settle.at_rest else GrabEvent.ITERATED)
+        self.stats = settle.describe(self.settle, "move the mouse")
         self.show()
 
     def show(self):
-        axis = "XYZ"[self.axis] if self.axis is not None else "free"
-        self.header("Edge Deform grab: %d vertices | X/Y/Z: axis (%s) | Enter/Click: confirm "
-                    "| Esc/Right click: cancel | %s" % (self.n_moving, axis, self.stats))
+        """Blender's G way: the tool's state in the header while it runs."""
+        if self.state == Grab.WAITING:
+            self.header("Grab Deform: %d vertices | move the pointer into the view to drag "
+                        "| Esc/Right click: cancel" % self.n_moving)
+            return
+        axis = "along %s" % "XYZ"[self.axis] if self.axis is not None else "free"
+        self.header("Grab Deform: %d vertices | D: %.4g %s | X/Y/Z: axis | Enter/Click: "
+                    "confirm | Esc/Right click: cancel | %s"
+                    % (self.n_moving, float(np.linalg.norm(self.mw[:3, :3] @ self.delta)),
+                       axis, self.stats))
 
     def modal(self, context, event):
         try:
@@ -137,18 +177,25 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
 
     def handle(self, context, event):
         if event.type == 'MOUSEMOVE':
-            self.mouse = (event.mouse_region_x, event.mouse_region_y)
-            self.dirty = True
+            self.mouse = self.in_region(event)
+            if self.state == Grab.WAITING:
+                if self.inside(self.mouse):
+                    self.origin = self.mouse
+                    self.go(GrabEvent.ENTERED)
+                    self.show()
+            else:
+                self.go(GrabEvent.MOVED)
         elif event.type == 'TIMER':
-            if self.dirty or not self.at_rest:
+            if self.state in (Grab.DRAGGING, Grab.SETTLING):
                 self.update()
         elif event.type in AXES and event.value == 'PRESS':
             axis = AXES[event.type]
             self.axis = None if self.axis == axis else axis
-            self.dirty = True
+            if self.state != Grab.WAITING:
+                self.go(GrabEvent.MOVED)
             self.show()
         elif event.type in {'RET', 'NUMPAD_ENTER', 'LEFTMOUSE'} and event.value == 'PRESS':
-            if self.dirty:
+            if self.state == Grab.DRAGGING:
                 self.update()
             return self.end(context, {'FINISHED'})
         elif event.type in {'ESC', 'RIGHTMOUSE'} and event.value == 'PRESS':
@@ -159,15 +206,25 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
 
     def end(self, context, result, restore=False):
         self.end_modal(context)
-        self.bound.release()   # the settings' handles return on the next sync
+        self.solver.release_grab()   # the settings' handles return on the next sync
         if restore:
             self.restore(context)
         else:
             self.snapshot.discard()
+            self.show_output_in_edit_mode()
         if self.ob.mode != 'EDIT':
             with context.temp_override(object=self.ob, active_object=self.ob):
-                bpy.ops.object.mode_set(mode='EDIT')
+                compat.mode_set(self.ob, 'EDIT')
         return result
+
+    def show_output_in_edit_mode(self):
+        """Edit Mode shows (and edits) the active shape key: make it the output key, so
+        the artist sees the mesh as dragged (Esc's snapshot keeps the previous one)."""
+        kb = lifecycle.owned_key(self.ob.data)
+        if self.ob.edge_deform.output == 'SHAPE_KEY' and kb is not None:
+            index = self.ob.data.shape_keys.key_blocks.find(kb.name)
+            if self.ob.active_shape_key_index != index:
+                self.ob.active_shape_key_index = index
 
     def cancel(self, context):   # Blender closes the window or quits
         self.end(context, {'CANCELLED'}, restore=True)

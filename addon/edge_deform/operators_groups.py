@@ -9,13 +9,14 @@ import numpy as np
 from bpy.props import EnumProperty, FloatProperty, StringProperty
 from mathutils import Matrix, Vector
 
-from . import engine, mesh_arrays
+from . import compat, engine, mesh_arrays
 from .op_common import object_mode, poll_mesh, tell
 
 PRESETS = {'SOFT': 0.0, 'MEDIUM': 0.5, 'RIGID': 1.0}
-STATIC_DEFAULT = "EdgeDeform_Static"
-ROI_DEFAULT = "EdgeDeform_Region"
-STIFFNESS_DEFAULT = "EdgeDeform_Stiffness"
+# Short enough to read in full in the panel's fields at the default sidebar width.
+STATIC_DEFAULT = "ED_Static"
+ROI_DEFAULT = "ED_Region"
+STIFFNESS_DEFAULT = "ED_Stiffness"
 
 
 def _selected(op, ob):
@@ -154,13 +155,7 @@ def _stiffness_targets(op, ob):
     if me.use_paint_mask_vertex:
         return _selected(op, ob)
     if me.use_paint_mask:   # face mask: the vertices of the selected faces
-        sel = np.zeros(len(me.polygons), bool)
-        me.polygons.foreach_get("select", sel)
-        total = np.zeros(len(me.polygons), np.int64)
-        me.polygons.foreach_get("loop_total", total)
-        corners = np.zeros(len(me.loops), np.int64)
-        me.loops.foreach_get("vertex_index", corners)
-        idx = np.unique(corners[np.repeat(sel, total)])
+        idx = mesh_arrays.selected_face_vertices(me)
         if idx.size == 0:
             op.report({'ERROR'}, "No faces selected")
         return idx
@@ -216,7 +211,7 @@ class EDGE_DEFORM_OT_paint_stiffness(bpy.types.Operator):
         vg = ensure_stiffness_group(ob)
         ob.vertex_groups.active_index = vg.index
         if ob.mode != 'WEIGHT_PAINT':
-            bpy.ops.object.mode_set(mode='WEIGHT_PAINT')
+            compat.mode_set(ob, 'WEIGHT_PAINT')
         return {'FINISHED'}
 
 

@@ -1,15 +1,20 @@
 """`live`: a modal tool that re-solves whenever a controller (or the object) moves.
 
 Controllers are moved by anything (G/R/S, gizmos, drivers, scripts): every timer tick the
-transforms are compared with the last solved ones; a change (or an unconverged previous
-solve) triggers one warm-started solve and a write through lifecycle.py. Each tick runs at
-most the settings' iterations and no more than fit in ~40 ms, so big meshes stay responsive
-and converge over the following ticks, or stop after engine.SETTLE_LIMIT iterations since
-the last change and say so. Only this main-thread timer touches bpy.
+transforms and every setting Live reads are compared with the last solved ones. Live is a
+state machine (modal_states.Live): each tick observes Blender, acts, and moves on by
+modal_states.live_next. A tick that iterates spends a time budget, not a fixed count
+(settle.py), so slow redraws do not throttle the solve; the shape settles over the
+following ticks, or Live stops after settle.SETTLE_LIMIT iterations since the last change
+and says so. Only this main-thread timer touches bpy.
 
-While the object is in another mode (the user entered Edit Mode from the menu) the tool
-pauses; back in Object Mode it binds again (the topology may have changed). Undo or the
-object's deletion end it cleanly.
+What Live says goes in a text over the viewport (overlay.py) and the panel: the header
+and the status bar stay Blender's, so a G/R/S inside Live shows its own value, axis and
+hints, and a refused key's reason shows in the status bar and over the view.
+
+While the object is in another mode (the user entered Edit Mode) the tool pauses; back in
+Object Mode it binds again (the topology may have changed). Undo or the object's deletion
+end it cleanly.
 
 A domain change (from the panel) needs a new graph, built and factored: seconds on a big
 mesh. Live runs it as stages, one per tick (op_common.Stages): the status bar names each
@@ -17,35 +22,53 @@ stage before it runs, with the progress and the wait cursor; Esc between stages 
 previous domain and its graph, the mesh untouched (nothing is written until it is done).
 """
 
-import time
-
 import bpy
 
-from . import compat, engine, lifecycle
-from .op_common import ModalTool, Stages, error_text, guarded, poll_mesh, tell
+from . import engine, lifecycle, overlay, preferences, settle
+from .modal_states import Live, LiveEvent, live_next
+from .op_common import (ModalTool, Stages, deformed_object, error_text, guarded, poll_mesh,
+                        tell)
 
 LAMBDA_STEP = 0.05
-# λ keys that shadow no navigation: ] / [ and Ctrl+wheel (the plain wheel and numpad +/-
-# zoom, Tab switches modes, clicks select: Live passes all of them on).
-KEYS_UP = {'RIGHT_BRACKET', 'WHEELUPMOUSE'}
-KEYS_DOWN = {'LEFT_BRACKET', 'WHEELDOWNMOUSE'}
-WHEEL = {'WHEELUPMOUSE', 'WHEELDOWNMOUSE'}
+# The settings Live reads, by what a change needs: a new read of the groups and a rebind,
+# a new λ, a new graph, or only a new settle (read on every solve). Esc puts back every
+# setting that shapes the result (the handles' groups and controllers too); where the
+# result goes (Output, the key's name) stays as the artist typed it.
+SHAPE_GROUPS = ("static_group", "roi_group", "stiffness_group")
+OUTPUT_SETTINGS = ("output", "shape_key_name")
+REBIND_SETTINGS = SHAPE_GROUPS + OUTPUT_SETTINGS
+RESTORED_SETTINGS = SHAPE_GROUPS + ("stiffness", "domain", "iterations", "tolerance",
+                                    "acceleration")
+WATCHED_SETTINGS = RESTORED_SETTINGS + OUTPUT_SETTINGS
+# Regions of the viewport that lie over its main region: a key there is theirs.
+OVER_THE_VIEW = {'HUD', 'UI', 'TOOLS', 'HEADER', 'TOOL_HEADER', 'NAVIGATION_BAR',
+                 'ASSET_SHELF', 'ASSET_SHELF_HEADER'}
 
 
-def in_region(area, event, region_type='WINDOW'):
-    """Is the mouse over the given region of `area`? (panels and headers stay usable)"""
+def over_the_view(area, event):
+    """Is the pointer over `area`'s 3D view itself (not a field of the sidebar, the redo
+    panel or a header lying over it)? Keys elsewhere belong to what is under the pointer."""
     if area is None:
         return False
+    x, y = event.mouse_x, event.mouse_y
+    view = False
     for region in area.regions:
-        if region.type == region_type:
-            return (region.x <= event.mouse_x < region.x + region.width
-                    and region.y <= event.mouse_y < region.y + region.height)
-    return False
+        inside = (region.width > 1 and region.height > 1
+                  and region.x <= x < region.x + region.width
+                  and region.y <= y < region.y + region.height)
+        if inside and region.type in OVER_THE_VIEW:
+            return False
+        view = view or (inside and region.type == 'WINDOW')
+    return view
+
+
+def handle_settings(s):
+    return tuple((h.vertex_group, h.controller) for h in s.handles)
 
 
 class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
     """Deform the mesh while you move its controllers (select and move them as usual).
-    [ ] or Ctrl+Wheel: stiffness, Enter: keep, Esc: cancel"""
+    Alt+[ ]: stiffness, Enter over the view: keep, Esc: cancel"""
     bl_idname = "edge_deform.live"
     bl_label = "Live Deform"
     bl_options = {'REGISTER', 'UNDO'}
@@ -53,183 +76,223 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
     @classmethod
     def poll(cls, context):
         return context.window is not None and poll_mesh(
-            cls, context, ('OBJECT',), need_handles=True)
+            cls, context, ('OBJECT',), need_handles=True, follow_controller=True)
 
     @guarded
     def invoke(self, context, event):
         self.refuse_if_running()
-        ob = context.active_object
+        ob = deformed_object(context)
         s = ob.edge_deform
-        self.bound = lifecycle.prepare(ob)          # refuses before anything changes
-        self.saved_settings = (s.stiffness, s.domain)
+        self.solver = lifecycle.prepare(ob)          # refuses before anything changes
+        self.saved_settings = {name: getattr(s, name) for name in RESTORED_SETTINGS}
+        self.saved_handles = handle_settings(s)
         self.saved_controllers = [(g.controller, g.controller.matrix_world.copy())
-                                  for g in self.bound.inputs.handle_groups if g.controller]
-        self.settings_state = self.saved_settings
-        self.controllers_state = None
-        self.at_rest = False        # converged, or gave up settling: idle until a change
-        self.paused = False
-        self.problem = None
+                                  for g in self.solver.inputs.handle_groups if g.controller]
+        self.state = Live.SOLVING
+        self.seen_settings = self.watched_settings(ob)
+        self.seen_controllers = None
         self.switch = None          # a domain switch in progress (Stages), see start_switch
-        self.refused_for = None
-        self.stats = "no solve yet"
+        self.refused_for = None     # what the user could fix, when the refusal came
+        self.problem = None
+        self.status_text = "no solve yet"
         self.updates = 0
-        self.settle_iterations, self.settle_ms = 0, 0.0   # since the last change
-        self.budget = engine.IterationBudget()
+        self.settle = settle.Settle()
+        self.keys_up, self.keys_down, self.keys_label = preferences.stiffness_keys(context)
         self.start_modal(context, ob)
+        self.text = overlay.ViewportText(self.area)
         self.hold_undo_steps(context)
-        for w in self.bound.warnings():
+        for w in self.solver.warnings():
             tell(self, 'WARNING', w)
         self.update(context)
         return {'RUNNING_MODAL'}
 
+    @property
+    def settle_iterations(self):
+        return self.settle.iterations
+
+    def go(self, event):
+        self.state = live_next(self.state, event)
+
     # ------------------------------------------------------------ per tick
 
+    def watched_settings(self, ob):
+        s = ob.edge_deform
+        return ({name: getattr(s, name) for name in WATCHED_SETTINGS}, handle_settings(s))
+
     def update(self, context):
-        ob, s = self.ob, self.ob.edge_deform
-        if self.switch is not None:
+        """One tick: observe, act, and move on to the next state."""
+        ob = self.ob
+        if self.state == Live.SWITCHING:
             self.advance_switch()
             return
         if ob.mode != 'OBJECT':
-            self.paused = True          # Blender's own tools own the mesh now
+            if self.state != Live.PAUSED:
+                self.go(LiveEvent.MODE_LEFT)   # Blender's own tools own the mesh now
             self.show("paused: back to Object Mode to continue")
             return
-        if self.bound is None and self.refused_for == self.settings_key():
-            return                      # refused: wait until the user changes something
+        if self.state == Live.REFUSED:
+            if self.refused_for == self.fixable():
+                return                  # wait until the user changes something
+            self.go(LiveEvent.RETRY)
+            self.solver = None
+        elif self.state == Live.PAUSED:
+            self.go(LiveEvent.MODE_BACK)
+            self.solver = None          # the topology may have changed: bind again
         try:
-            if (self.paused or self.bound is None
-                    or lifecycle.output_settings(ob) != self.bound.output):
-                self.rebind()
-            settings_state = (s.stiffness, s.domain)
-            if s.domain != self.bound.binding.domain:
-                self.start_switch(context)
+            self.follow_changes(context)
+            if self.state == Live.SWITCHING:
                 return
-            if settings_state != self.settings_state:
-                self.bound.settings_changed()
-                self.settings_state = settings_state
-                self.at_rest = False
-                self.settle_iterations, self.settle_ms = 0, 0.0
-            try:
-                state = engine.controller_state(ob, self.bound.inputs)
-            except ReferenceError:      # a controller was deleted: read the settings again
-                self.rebind()
-                state = engine.controller_state(ob, self.bound.inputs)
-            if state == self.controllers_state and self.at_rest:
+            if self.state == Live.AT_REST:
+                self.settle.rested()
                 return
-            if state != self.controllers_state:
-                self.settle_iterations, self.settle_ms = 0, 0.0
-            self.controllers_state = state
-            t0 = time.perf_counter()
-            r = self.bound.solve(self.bound.targets(), self.budget.iterations(s.iterations),
-                                 s.tolerance, warm=True)
-            self.budget.record(r, (time.perf_counter() - t0) * 1e3)
-            self.bound.write(r.positions)
+            if self.settle.at_rest:     # (nothing changed since it settled)
+                self.go(LiveEvent.SETTLED)
+                return
+            targets = self.solver.targets()
+            s = ob.edge_deform
+            r = self.settle.tick(lambda n: self.solver.solve(targets, n, s.tolerance),
+                                 moving=self.settle.iterations == 0)
+            self.solver.write(r.positions)
         except Exception as exc:  # noqa: BLE001 - shown, and retried on the next change
-            if self.bound is None:
-                self.refused_for = self.settings_key()
-            message = error_text(exc)
-            if message != self.problem:
-                tell(self, 'ERROR', message)
-            self.problem = message
-            self.at_rest = True
-            self.show(message)
+            self.refuse(exc)
             return
         self.problem = None
-        self.settle_iterations += r.iterations
-        self.settle_ms += (time.perf_counter() - t0) * 1e3
-        text, self.at_rest = engine.settle_status(r, self.settle_ms, self.settle_iterations,
-                                                  "move a controller")
         self.updates += 1
-        self.stats = text
-        self.show(self.stats)
+        self.go(LiveEvent.SETTLED if self.settle.at_rest else LiveEvent.ITERATED)
+        self.show(settle.describe(self.settle, "move a controller"))
+
+    def follow_changes(self, context):
+        """Compare what Live reads with what it last solved for; a change starts a new
+        settle (after a rebind, a new λ or a domain switch, as the change needs)."""
+        ob, s = self.ob, self.ob.edge_deform
+        settings = self.watched_settings(ob)
+        changed = settings != self.seen_settings
+        if (self.solver is None or lifecycle.output_settings(ob) != self.solver.output
+                or settings[1] != self.seen_settings[1]
+                or any(settings[0][n] != self.seen_settings[0][n] for n in REBIND_SETTINGS)):
+            self.rebind()
+            changed = True
+        if s.domain != self.solver.binding.domain:
+            self.start_switch(context)
+            return
+        if settings[0]["stiffness"] != self.seen_settings[0]["stiffness"]:
+            self.solver.settings_changed()
+        self.seen_settings = settings
+        try:
+            controllers = engine.controller_state(ob, self.solver.inputs)
+        except ReferenceError:      # a controller was deleted: read the settings again
+            self.rebind()
+            controllers = engine.controller_state(ob, self.solver.inputs)
+        if controllers != self.seen_controllers:
+            self.seen_controllers = controllers
+            changed = True
+        if changed:
+            self.settle.changed()
+            self.go(LiveEvent.CHANGED)
+
+    def refuse(self, exc):
+        """A check or the solve failed: say so once, and wait for a fix."""
+        self.refused_for = self.fixable()
+        message = error_text(exc)
+        if message != self.problem:
+            tell(self, 'ERROR', message)
+        self.problem = message
+        self.go(LiveEvent.FAILED)
+        self.show(message)
+
+    def fixable(self):
+        """What the user may change to fix a refusal (settings, groups, mode, a move)."""
+        ob, s = self.ob, self.ob.edge_deform
+        moves = tuple(tuple(map(tuple, h.controller.matrix_world)) for h in s.handles
+                      if h.controller is not None)
+        return (ob.mode, self.watched_settings(ob), tuple(g.name for g in ob.vertex_groups),
+                ob.data.edge_deform_state.written, tuple(map(tuple, ob.matrix_world)), moves)
+
+    def rebind(self):
+        """After a mode switch, a change of groups or Output, or a deleted controller:
+        check and read everything again."""
+        self.solver = None
+        self.solver = lifecycle.prepare(self.ob)
+        self.seen_settings = self.watched_settings(self.ob)
+        self.seen_controllers = None
+        for w in self.solver.warnings():
+            tell(self, 'WARNING', w)
 
     # ------------------------------------------------------------ domain switch
 
     def start_switch(self, context):
         """Begin building the new domain's graph: this tick only shows what comes."""
         s = self.ob.edge_deform
-        self.switch_from = self.bound.binding.domain
-        self.switch_to = (s.stiffness, s.domain)
-        inputs = engine.with_global_changes(self.bound.inputs, self.ob)
+        self.switch_from = self.solver.binding.domain
+        inputs = engine.with_global_changes(self.solver.inputs, self.ob)
         self.switch = Stages(context, "Live Deform: switching to the %s graph…" % (
             "edge" if s.domain == 'EDGE' else "vertex"),
             lifecycle.prepare_steps(self.ob, inputs, what="Live Deform"))
-        self.header("%s  (Esc: keep the previous domain)" % self.switch.stage)
+        self.go(LiveEvent.SWITCH)
+        self.show("%s  (Esc: keep the previous domain)" % self.switch.stage)
 
     def advance_switch(self):
         """One stage of the switch per tick; at its end Live solves with the new graph."""
         try:
-            done, bound = self.switch.advance()
+            done, solver = self.switch.advance()
         except Exception as exc:  # noqa: BLE001 - the previous domain stays in use
-            self.switch = None
-            self.ob.edge_deform.domain = self.switch_from
+            self.end_switch()
             tell(self, 'ERROR', error_text(exc) + " (the previous domain is kept)")
-            self.show(self.stats)
             return
         if not done:
-            self.header("%s  (Esc: keep the previous domain)" % self.switch.stage)
+            self.show("%s  (Esc: keep the previous domain)" % self.switch.stage)
             return
         self.switch = None
-        self.bound, self.settings_state = bound, self.switch_to
-        self.controllers_state, self.at_rest = None, False
-        self.settle_iterations, self.settle_ms = 0, 0.0
-        self.budget = engine.IterationBudget()   # the new graph has its own speed
+        self.solver = solver
+        self.seen_settings = self.watched_settings(self.ob)
+        self.seen_controllers = None
+        self.settle.new_graph()          # the new graph has its own speed
+        self.go(LiveEvent.SWITCH_ENDED)
         self.show("new graph ready, solving…")
 
-    def cancel_switch(self):
-        """Esc during a switch: the previous domain and graph stay; nothing was written."""
+    def end_switch(self):
+        """The switch stopped (failed or Esc): the previous domain and graph stay."""
         self.switch.stop()
         self.switch = None
         self.ob.edge_deform.domain = self.switch_from
-        tell(self, 'WARNING', "Domain switch cancelled: the %s graph is kept" % (
+        self.seen_settings = self.watched_settings(self.ob)
+        self.go(LiveEvent.SWITCH_ENDED)
+        self.show(self.status_text)
+
+    def cancel_switch(self):
+        """Esc during a switch: nothing was written."""
+        self.end_switch()
+        self.say('WARNING', "Domain switch cancelled: the %s graph is kept" % (
             "edge" if self.switch_from == 'EDGE' else "vertex"))
-        self.show(self.stats)
 
     def end_modal(self, context):
         if self.switch is not None:   # (any way out: the progress and cursor end too)
             self.switch.stop()
             self.switch = None
+        text = getattr(self, "text", None)
+        if text is not None:
+            text.remove()
         super().end_modal(context)
 
-    def settings_key(self):
-        """What the user may change to fix a refusal (settings, groups, mode)."""
-        ob, s = self.ob, self.ob.edge_deform
-        return (ob.mode, s.output, s.shape_key_name, s.static_group, s.roi_group,
-                s.stiffness_group, s.domain, tuple(h.vertex_group for h in s.handles),
-                tuple(g.name for g in ob.vertex_groups), ob.data.edge_deform_state.written)
+    # ------------------------------------------------------------ what the artist sees
 
-    def rebind(self):
-        """After a mode switch, an Output change or a deleted controller: check and read
-        everything again."""
-        self.paused = False
-        self.bound = None
-        self.bound = lifecycle.prepare(self.ob)
-        self.settings_state = (self.ob.edge_deform.stiffness, self.ob.edge_deform.domain)
-        self.controllers_state = None
-        self.at_rest = False
-        for w in self.bound.warnings():
-            tell(self, 'WARNING', w)
-
-    def show(self, stats):
-        """A short header (what is happening) and the keys in the status bar."""
+    def show(self, status):
+        """Live's state and its keys over the viewport (the panel says it runs)."""
         s = self.ob.edge_deform
         lam = ("painted (%s)" % s.stiffness_group if s.stiffness_group
                else "%.2f" % s.stiffness)
-        self.header("Live Deform: %s | λ %s" % (stats, lam))
-        # Drawn later by Blender, maybe after undo replaced the object: plain values only.
-        self.painted = s.stiffness_group
-        compat.status_bar(self.workspace, self.draw_keys)
+        self.status_text = "Live Deform: %s | λ %s" % (status, lam)
+        stiffness = ("stiffness: painted group" if s.stiffness_group
+                     else "%s stiffness" % self.keys_label)
+        self.text.set([self.status_text,
+                       "Enter keep · Esc cancel · %s · move controllers with G/R/S"
+                       % stiffness])
 
-    def draw_keys(self, layout):
-        """Key hints the way Blender's G shows them (icons from 3.4 to 5.0)."""
-        layout.label(text="Keep", icon='EVENT_RETURN')
-        layout.label(text="Cancel", icon='EVENT_ESC')
-        layout.label(text="Move controllers: G / R / S or gizmo", icon='MOUSE_LMB')
-        if self.painted:
-            layout.label(text="Stiffness: painted group", icon='BRUSH_DATA')
-        else:
-            layout.label(text="[ ]  Stiffness", icon='NONE')
-            layout.label(text="", icon='EVENT_CTRL')
-            layout.label(text="Stiffness", icon='MOUSE_MMB')
+    def say(self, level, text):
+        """A message where the artist looks: over the view, and as a report (the status
+        bar and the Info log)."""
+        self.text.tell(text)
+        tell(self, level, text)
 
     # ------------------------------------------------------------ events
 
@@ -245,21 +308,21 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             return {'CANCELLED'}
 
     def handle(self, context, event):
-        s = self.ob.edge_deform
         if event.type == 'TIMER':
             self.update(context)
             return {'PASS_THROUGH'}
-        if event.value == 'PRESS' and self.ob.mode == 'OBJECT':
-            wheel = event.type in WHEEL
-            if (event.type in KEYS_UP | KEYS_DOWN and wheel == event.ctrl
-                    and not (event.alt or event.shift) and in_region(self.area, event)):
-                self.change_stiffness(context, event.type in KEYS_UP)
-                return {'RUNNING_MODAL'}
-            if event.type in {'RET', 'NUMPAD_ENTER'}:
+        in_view = over_the_view(self.area, event)
+        if event.value == 'PRESS' and self.ob.mode == 'OBJECT' and in_view:
+            for key, up in ((self.keys_up, True), (self.keys_down, False)):
+                if preferences.pressed(event, key):
+                    self.change_stiffness(context, up)
+                    return {'RUNNING_MODAL'}
+            if event.type in {'RET', 'NUMPAD_ENTER'} and not (event.ctrl or event.alt):
                 return self.finish(context)
-            if event.type == 'Z' and (event.ctrl or event.oskey):
-                tell(self, 'WARNING', "Confirm or cancel Live Deform before undoing")
-                return {'RUNNING_MODAL'}
+        if event.value == 'PRESS' and event.type == 'Z' and (event.ctrl or event.oskey):
+            self.say('WARNING', "Confirm or cancel Live Deform before undoing (Enter keeps, "
+                                "Esc cancels)")
+            return {'RUNNING_MODAL'}
         if event.value == 'PRESS' and event.type == 'ESC':
             if self.switch is not None:
                 self.cancel_switch()
@@ -271,8 +334,8 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         s = self.ob.edge_deform
         if s.stiffness_group:
             # The painted group decides λ: a hidden global value must not change.
-            tell(self, 'WARNING', "Stiffness comes from the painted group '%s': paint it, "
-                                  "or clear the group to use one value" % s.stiffness_group)
+            self.say('WARNING', "Stiffness comes from the painted group '%s': paint it, "
+                                "or clear the group to use one value" % s.stiffness_group)
             return
         step = LAMBDA_STEP if up else -LAMBDA_STEP
         s.stiffness = min(1.0, max(0.0, round(s.stiffness + step, 4)))
@@ -285,14 +348,17 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.end_modal(context)
         self.snapshot.discard()
         lifecycle.forget_cache(self.ob.data)
-        tell(self, 'INFO', "Live Deform: %d updates, %s" % (self.updates, self.stats))
+        tell(self, 'INFO', "Live Deform: %d updates, %s" % (self.updates, self.status_text))
         return {'FINISHED'}
 
     def cancel_and_restore(self, context):
         self.end_modal(context)
         s = self.ob.edge_deform
         why = self.restore(context)
-        s.stiffness, s.domain = self.saved_settings
+        for name, value in self.saved_settings.items():
+            if getattr(s, name) != value:
+                setattr(s, name, value)
+        self.restore_handles(s)
         for controller, matrix in self.saved_controllers:
             try:
                 controller.matrix_world = matrix
@@ -301,6 +367,20 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         if why is not None:
             tell(self, 'WARNING', "Live Deform cancelled: " + why)
         return {'CANCELLED'}
+
+    def restore_handles(self, s):
+        """The handles' groups and controllers as they were (when the list kept its
+        length: a handle added or removed during Live is the user's edit, not Live's)."""
+        if len(s.handles) != len(self.saved_handles):
+            return
+        for h, (group, controller) in zip(s.handles, self.saved_handles):
+            try:
+                if h.vertex_group != group:
+                    h.vertex_group = group
+                if h.controller != controller:
+                    h.controller = controller
+            except ReferenceError:
+                pass
 
     def abandon(self, context, why):
         """The object or the scene data went away under the tool: end without writing."""

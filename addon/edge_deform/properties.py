@@ -4,8 +4,34 @@ import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
                        FloatVectorProperty, IntProperty, PointerProperty, StringProperty)
 
+from . import engine
+
 IDENTITY = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0),
             (0.0, 0.0, 1.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+
+
+# (identifier, name, description, number): the number is what a file stores. Newton is
+# listed only when this build of the package solves with it (engine.offered_accelerations).
+_ACCELERATION_ITEMS = {
+    "newton": ('NEWTON', "Newton", "Newton steps on the same shape: fewest passes, each "
+               "dearer (recommended when offered)", 2),
+    "anderson": ('ANDERSON', "Fast", "Reaches the same shape in fewer passes", 0),
+    "none": ('NONE', "Plain", "One plain pass at a time: slower, for comparison", 1)}
+
+
+def _acceleration_items(self, context):
+    # (A module-level list: Blender keeps pointers to the strings an items callback gives.)
+    _acceleration_items.cache[:] = [_ACCELERATION_ITEMS[name]
+                                    for name in engine.offered_accelerations()]
+    return _acceleration_items.cache
+
+
+_acceleration_items.cache = []
+
+
+def _default_acceleration():
+    """The fastest method offered (the package's own default order)."""
+    return _ACCELERATION_ITEMS[engine.offered_accelerations()[0]][3]
 
 
 class EdgeDeformHandle(bpy.types.PropertyGroup):
@@ -57,10 +83,9 @@ class EdgeDeformSettings(bpy.types.PropertyGroup):
         description="How close to the final shape counts as settled, as a fraction of the "
                     "object's size (smaller: more accurate, slower)")
     acceleration: EnumProperty(
-        name="Acceleration", default='ANDERSON',
+        name="Acceleration", default=_default_acceleration(),
         description="How updates approach the final shape",
-        items=[('ANDERSON', "Fast", "Reaches the same shape in fewer passes (recommended)"),
-               ('NONE', "Plain", "One plain pass at a time: slower, for comparison")])
+        items=_acceleration_items)
     output: EnumProperty(
         name="Output", default='SHAPE_KEY',
         description="Where the deformed shape goes",

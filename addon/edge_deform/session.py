@@ -1,11 +1,13 @@
-"""Session cache: one Binding (Deformer + arrays) per mesh, for this Blender session.
+"""Session cache: one Binding (a Deformer and its arrays) per mesh, for this Blender session.
 
 Keyed by the mesh datablock pointer; each entry also remembers the topology (counts and a
 digest) and the settings it was built from, so a stale entry is rebuilt, never reused.
 Entries are plain Python objects: they die with the session, and nothing here touches bpy.
-Only lifecycle.py uses this cache (it decides when an entry may be trusted).
+Only lifecycle.py uses this cache (it decides when an entry may be trusted); a Binding's
+state changes only through its methods.
 """
 
+import enum
 import hashlib
 
 import numpy as np
@@ -25,8 +27,20 @@ def _digest(*arrays):
     return h.hexdigest()
 
 
+class Constraints(enum.Enum):
+    """Whose handles the Deformer holds."""
+    NONE = "none"            # none yet, or released: the next sync sets the settings'
+    SETTINGS = "settings"    # the object's settings (handles, static, region)
+    GRAB = "grab"            # Grab Deform's selection, until it ends
+
+
 class Binding:
-    """A Deformer bound to one mesh, with the constraint arrays it was given."""
+    """A Deformer bound to one mesh, with the constraints and stiffness it was given.
+
+    Read-only for everyone else: the mesh's identity (`mesh_pointer`, `counts`, `digest`),
+    its rest shape `X`, triangles `F`, the `deformer`, the `domain` and the `inputs` (with
+    their owner) last synced. Changed only by build, sync, hold_grab, release_grab and
+    start_cold."""
 
     def __init__(self, mesh_pointer, counts, digest, X, F):
         self.mesh_pointer = mesh_pointer
@@ -35,50 +49,103 @@ class Binding:
         self.X = X                  # rest positions (n,3) float64, object space
         self.F = F                  # loop triangles (m,3) int64
         self.rest_key = _digest(X)
-        self.deformer = None
-        self.domain = None
-        self.inputs = None          # the Inputs last synced
-        self.inputs_owner = None    # name of the object whose settings they are
-        self.constraint_key = None
-        self.stiffness_key = None
-        self.last = None            # last SolveResult, for warm starts
-        self.bind_ms = 0.0
+        self.bind_ms = 0.0          # the compute time of the last build and factoring
+        self._deformer = None
+        self._domain = None
+        self._inputs = None
+        self._inputs_owner = None
+        self._constraints = Constraints.NONE
+        self._constraint_key = None
+        self._stiffness_key = None
+        # The next solve starts cold (a new graph or new constraints): a warm start would
+        # continue from a shape solved for other constraints.
+        self._cold_start_due = True
 
-    def sync(self, ed, inputs):
-        """Bring the Deformer in line with `inputs`, redoing only what changed.
+    # ---------------------------------------------------------------- reading
+
+    @property
+    def deformer(self):
+        return self._deformer
+
+    @property
+    def domain(self):
+        return self._domain
+
+    @property
+    def constraints(self):
+        return self._constraints
+
+    def inputs_of(self, owner):
+        """The inputs last synced for the object named `owner`, or None (another object's,
+        Grab's temporary constraints, or none yet)."""
+        if self._constraints != Constraints.SETTINGS or self._inputs_owner != owner:
+            return None
+        return self._inputs
+
+    # ---------------------------------------------------------------- changing
+
+    def build(self, ed, domain):
+        """A new Deformer (the graph) for `domain`; constraints and stiffness come next."""
+        self._deformer = ed.Deformer(self.X, self.F, domain=domain.lower())
+        self._domain = domain
+        self._constraints, self._constraint_key, self._stiffness_key = (
+            Constraints.NONE, None, None)
+        self._cold_start_due = True
+
+    def sync(self, ed, inputs, owner):
+        """Bring the Deformer in line with `inputs` (the settings of the object named
+        `owner`), redoing only what changed.
 
         Raises ValueError/IndexError from the package; the Binding then keeps its old state
         for the parts that failed (their keys are only updated after success).
         """
-        if self.deformer is None or self.domain != inputs.domain:
+        if self._deformer is None or self._domain != inputs.domain:
             self.build(ed, inputs.domain)
         ckey = _digest(inputs.handles, inputs.static, inputs.roi)
-        if ckey != self.constraint_key:
-            self.constraint_key = None
-            self.deformer.set_constraints(handles=inputs.handles, static=inputs.static,
-                                          roi=inputs.roi)
-            self.constraint_key = ckey
-            self.last = None
+        if self._constraints != Constraints.SETTINGS or ckey != self._constraint_key:
+            self._constraints, self._constraint_key = Constraints.NONE, None
+            self._deformer.set_constraints(handles=inputs.handles, static=inputs.static,
+                                           roi=inputs.roi)
+            self._constraints, self._constraint_key = Constraints.SETTINGS, ckey
+            self._cold_start_due = True
         lam = inputs.stiffness
         skey = ("f", float(lam)) if np.isscalar(lam) else ("a", _digest(lam))
-        if skey != self.stiffness_key:
-            self.stiffness_key = None
-            self.deformer.set_stiffness(lam)
-            self.stiffness_key = skey
-        self.inputs = inputs
+        if skey != self._stiffness_key:
+            self._stiffness_key = None
+            self._deformer.set_stiffness(lam)
+            self._stiffness_key = skey
+        self._inputs, self._inputs_owner = inputs, owner
 
-    def build(self, ed, domain):
-        """A new Deformer (the graph) for `domain`; constraints and stiffness come next."""
-        self.deformer = ed.Deformer(self.X, self.F, domain=domain.lower())
-        self.domain = domain
-        self.constraint_key = self.stiffness_key = None
-        self.last = None
+    def hold_grab(self, handles, static, roi):
+        """Grab Deform's constraints (its selection), until release_grab."""
+        self._constraints, self._constraint_key = Constraints.NONE, None
+        self._deformer.set_constraints(handles=handles, static=static, roi=roi)
+        self._constraints = Constraints.GRAB
+        self._cold_start_due = True
 
-    def use_constraints(self, handles, static, roi):
-        """Temporary constraints (the grab tool); the next sync() restores the settings'."""
-        self.deformer.set_constraints(handles=handles, static=static, roi=roi)
-        self.constraint_key = "temporary"
-        self.last = None
+    def release_grab(self):
+        """Grab ended: the next sync sets the settings' constraints again."""
+        if self._constraints == Constraints.GRAB:
+            self._constraints, self._constraint_key = Constraints.NONE, None
+        self._cold_start_due = True
+
+    def start_cold(self):
+        """The next solve starts from the rest shape (a tool ended; Bake's first frame)."""
+        self._cold_start_due = True
+
+    def solve(self, targets, iterations, tolerance, acceleration, warm=True, initial=None):
+        """One solve call. warm: continue from the previous solve unless a cold start is
+        due (with unchanged targets that continues the same accelerated iteration, so
+        repeated short calls settle on the one long call's shape)."""
+        kwargs = dict(max_iterations=int(iterations), tolerance=float(tolerance),
+                      acceleration=acceleration)
+        if initial is not None:
+            r = self._deformer.solve(targets, warm_start=False, initial=initial, **kwargs)
+        else:
+            r = self._deformer.solve(targets, warm_start=bool(warm and not self._cold_start_due),
+                                     **kwargs)
+        self._cold_start_due = False
+        return r
 
 
 def get(mesh_pointer):

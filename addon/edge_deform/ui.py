@@ -13,19 +13,8 @@ import bpy
 from . import compat, lifecycle, op_common, operators_bake
 
 
-def deformed_object(context):
-    """The mesh the panel works on: the active mesh, or the mesh whose handle the active
-    object controls. None when there is neither."""
-    ob = context.active_object
-    if ob is None:
-        return None
-    if ob.type == 'MESH':
-        return ob
-    for other in context.scene.objects:
-        s = getattr(other, "edge_deform", None) if other.type == 'MESH' else None
-        if s is not None and any(h.controller == ob for h in s.handles):
-            return other
-    return None
+# (Kept here too: the panel and its tests speak of it.)
+deformed_object = op_common.deformed_object
 
 
 def target(layout, context):
@@ -59,11 +48,11 @@ class EDGE_DEFORM_UL_handles(bpy.types.UIList):
     would shrink to a letter each); the active handle's fields are edited below the list."""
 
     def draw_item(self, context, layout, data, item, icon, active_data, active_prop):
-        # One label: two half-width labels cut the controller's name to its first letter
-        # in a narrow sidebar; a single one is shortened in its middle, both ends stay.
-        layout.label(text="%s → %s" % (item.vertex_group or "(no group)",
-                                       item.controller.name if item.controller
-                                       else "(no controller)"), icon='GROUP_VERTEX')
+        # The group's name, and an icon for its controller (its name is in the field
+        # below the list): "group → controller" was cut at the default sidebar width.
+        row = layout.row(align=True)
+        row.label(text=item.vertex_group or "(no group)", icon='GROUP_VERTEX')
+        row.label(text="", icon='EMPTY_AXIS' if item.controller else 'ERROR')
 
 
 class EDGE_DEFORM_OT_select_controller(bpy.types.Operator):
@@ -131,17 +120,23 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
         s = ob.edge_deform
         bound = lifecycle.is_bound(ob.data)
         active = context.active_object
-        if active != ob:
+        if active != ob:   # (short labels: each reads in full in a 170 px sidebar)
+            layout.label(text="Controller of")
             row = layout.row()
-            row.label(text="Controller of '%s'" % ob.name, icon='EMPTY_AXIS')
+            row.label(text=ob.name, icon='OUTLINER_OB_MESH')
             row.operator("edge_deform.select_mesh", text="", icon='RESTRICT_SELECT_OFF')
 
         running = op_common.running_tool(ob)
         if running:
-            layout.label(text="%s: Enter keeps, Esc cancels" % running.bl_label,
-                         icon='REC')
+            col = layout.column(align=True)
+            col.label(text="%s on" % running.bl_label, icon='REC')
+            col.label(text="Enter keeps")
+            col.label(text="Esc cancels")
         elif not s.handles:
-            layout.label(text="Add a handle: Edit Mode, select, +", icon='INFO')
+            col = layout.column(align=True)
+            col.label(text="No handles yet", icon='INFO')
+            col.label(text="Edit Mode: select")
+            col.label(text="vertices, then +")
         elif bound:
             layout.label(text="Bound", icon='LINKED')   # (the graph: Solver sub-panel)
         else:
@@ -205,10 +200,11 @@ class EDGE_DEFORM_PT_groups(_SubPanel, bpy.types.Panel):
         s = ob.edge_deform
         for field, op, label in (("static_group", "edge_deform.set_static", "Static"),
                                  ("roi_group", "edge_deform.set_roi", "Region (optional)")):
-            layout.label(text=label)
-            row = layout.row(align=True)
-            row.prop_search(s, field, ob, "vertex_groups", text="")
+            # The button beside the label: the group's name gets the whole row.
+            row = layout.row()
+            row.label(text=label)
             row.operator(op, text="", icon='ADD')
+            layout.prop_search(s, field, ob, "vertex_groups", text="")
 
 
 class EDGE_DEFORM_PT_stiffness(_SubPanel, bpy.types.Panel):
@@ -221,10 +217,10 @@ class EDGE_DEFORM_PT_stiffness(_SubPanel, bpy.types.Panel):
         row = layout.row()
         row.active = not s.stiffness_group   # a group overrides the global value
         row.prop(s, "stiffness", slider=True, text="λ")
-        layout.label(text="Painted Group")   # (the sub-panel says it is stiffness)
-        row = layout.row(align=True)
-        row.prop_search(s, "stiffness_group", ob, "vertex_groups", text="")
+        row = layout.row()   # (the sub-panel says it is stiffness)
+        row.label(text="Painted Group")
         row.operator("edge_deform.paint_stiffness", text="", icon='BRUSH_DATA')
+        layout.prop_search(s, "stiffness_group", ob, "vertex_groups", text="")
         if s.stiffness_group:
             layout.label(text="Group sets λ", icon='INFO')
         # Side by side, or stacked in a narrow sidebar (else cut to "Med…" and "Rig…").
@@ -254,10 +250,10 @@ class EDGE_DEFORM_PT_solver(_SubPanel, bpy.types.Panel):
             col = layout.column(align=True)
             col.label(text="Vertex graph with λ near 0", icon='ERROR')
             col.label(text="may inflate: use Edge Graph")
-        col = layout.column(align=True)
-        col.prop(s, "iterations")
-        col.prop(s, "tolerance")
-        layout.row().prop(s, "acceleration", expand=True)
+        # Labels above their fields: "Tolerance" was cut to "Tole" in a narrow sidebar.
+        for name in ("iterations", "tolerance", "acceleration"):
+            layout.label(text=s.bl_rna.properties[name].name)
+            layout.prop(s, name, text="")
         layout.label(text="Output")
         layout.row().prop(s, "output", expand=True)
         if s.output == 'SHAPE_KEY':
@@ -272,7 +268,7 @@ class EDGE_DEFORM_PT_animation(_SubPanel, bpy.types.Panel):
         layout = self.layout
         ob = target(self.layout, context)
         s = ob.edge_deform
-        layout.prop(s, "animate")
+        layout.prop(s, "animate", text="Every Frame")   # (the full name: the tooltip)
         problem = operators_bake.frame_problem(ob) if s.animate else None
         if problem:
             layout.label(text=problem, icon='ERROR')

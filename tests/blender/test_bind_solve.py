@@ -322,26 +322,47 @@ def test_solve_names_a_graph_rebuild():
     assert ob.data.shape_keys is not None and r.iterations > 0
 
 
+class _Results:
+    """solve(n) for settle.Settle: real warm solves of the plane, n iterations each."""
+
+    def __init__(self, d, targets, tol):
+        self.d, self.targets, self.tol = d, targets, tol
+
+    def __call__(self, n):
+        return self.d.solve(self.targets, max_iterations=n, tolerance=self.tol,
+                            warm_start=True)
+
+
 def test_modal_tools_stop_settling_at_the_limit():
-    """engine.settle_status, on real solve results: 'settled' only when converged; past
+    """settle.describe, on real solve results: 'settled' only when converged; past
     SETTLE_LIMIT iterations without it, the tools stop and say how far the shape may be."""
-    from edge_deform import engine
+    from edge_deform import settle
     ob, V, F, handle, static, ctrl = plane_setup()
     rest = positions(ob.data).astype(float)
     T = rest[handle] + np.array([0.0, 0.0, 0.3])
-    done = api_solve(rest, F, handle, static, T, 0.5, iterations=2000)
-    assert done.converged
-    text, stop = engine.settle_status(done, 12.0, 5000, "move a controller")
-    assert stop and text.startswith("settled, 5000 iterations"), text
-    going = api_solve(rest, F, handle, static, T, 0.5, iterations=3, tol=0.0)
-    assert not going.converged
-    text, stop = engine.settle_status(going, 12.0, engine.SETTLE_LIMIT - 1, "move a controller")
-    assert not stop and text.startswith("settling…"), text
-    text, stop = engine.settle_status(going, 12.0, engine.SETTLE_LIMIT, "move a controller")
-    assert stop and "settled" not in text, text
-    assert text.startswith("stopped after %d iterations, not converged" % engine.SETTLE_LIMIT)
+    d = ed.Deformer(rest, F, domain="edge")
+    d.set_constraints(handles=handle, static=static)
+    d.set_stiffness(0.5)
+    done = settle.Settle(limit=5000)
+    while not done.at_rest:
+        done.tick(_Results(d, T, 1e-3), moving=False)
+    assert done.settled and done.result.converged
+    text = settle.describe(done, "move a controller")
+    assert text.startswith("settled, %d iterations" % done.iterations), text
+    d.set_constraints(handles=handle, static=static)   # (a new solve)
+    going = settle.Settle(limit=60)
+    going.tick(_Results(d, T, 0.0), moving=False)
+    assert not going.result.converged and not going.at_rest
+    text = settle.describe(going, "move a controller")
+    assert text.startswith("settling…"), text
+    while not going.at_rest:
+        going.tick(_Results(d, T, 0.0), moving=False)
+    assert going.gave_up and going.iterations == 60, going.iterations
+    text = settle.describe(going, "move a controller")
+    assert "settled" not in text, text
+    assert text.startswith("stopped after 60 iterations, not converged"), text
     assert text.endswith("; move a controller to go on"), text
-    estimate = float(going.distance_estimate)
+    estimate = float(going.result.distance_estimate)
     assert (("estimated %.0e of the size away" % estimate) in text if np.isfinite(estimate)
             else "distance unknown" in text), text
 

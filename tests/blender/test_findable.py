@@ -53,7 +53,9 @@ def test_menus_hold_the_operators():
     for op in ("bind", "live", "solve", "apply", "bake"):
         assert "edge_deform." + op in sub.operators, (op, sub.operators)
     rec = draw_appended("VIEW3D_MT_edit_mesh_vertices")
-    assert rec.operators == ["edge_deform.add_handle", "edge_deform.set_static",
+    # Grab Deform and Set Region too (issue 21: they were in no menu, so F3 missed them).
+    assert rec.operators == ["edge_deform.grab", "edge_deform.add_handle",
+                             "edge_deform.set_static", "edge_deform.set_roi",
                              "edge_deform.assign_stiffness"], rec.operators
     rec = draw_appended("VIEW3D_MT_paint_weight")
     assert rec.operators == ["edge_deform.assign_stiffness"], rec.operators
@@ -210,6 +212,9 @@ class _RecordingLayout:
     def label(self, **kw):
         self.operators.append(("label", kw.get("text"), None))
 
+    def prop(self, data, name, **_):
+        self.props = getattr(self, "props", []) + [name]
+
     def operator(self, idname, **kw):
         class Props:
             url = None
@@ -238,6 +243,7 @@ def test_info_links_the_manual():
     cls.draw(type("Prefs", (), {"layout": layout})(), bpy.context)
     [(idname, text, props)] = layout.operators
     assert idname == "wm.url_open" and text == "Manual", layout.operators
+    assert layout.props == ["stiffness_keys"], layout.props   # Live's λ keys (issue 21)
     assert os.path.samefile(doc_file(props.url), path)
     # ... and the legacy add-on's "Documentation" link (bl_info["doc_url"]) the same page.
     info = getattr(edge_deform, "bl_info", None)

@@ -69,9 +69,9 @@ def marked_graph_work(seen):
         seen.append(('ran', 'build', domain))
         return build(binding, ed, domain)
 
-    def marked_sync(binding, ed, inputs):
+    def marked_sync(binding, ed, inputs, owner):
         seen.append(('ran', 'factor', inputs.domain))
-        return sync(binding, ed, inputs)
+        return sync(binding, ed, inputs, owner)
 
     session.Binding.build, session.Binding.sync = marked_build, marked_sync
 
@@ -98,8 +98,8 @@ def live_domain_switch(ob, ctrl, seen):
         with override():
             assert bpy.ops.edge_deform.live('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
         tool = op_common.running_tool(ob)
-        yield from until(lambda: "settled" in (tool.header_text or ""), 120)
-        assert "settled" in tool.header_text, tool.header_text
+        yield from until(lambda: "settled" in (tool.status_text or ""), 120)
+        assert "settled" in tool.status_text, tool.status_text
         at_cancel = []
 
         def capture(level, text):   # the key at the moment the switch is cancelled
@@ -138,7 +138,7 @@ def live_domain_switch(ob, ctrl, seen):
             moved = (key_positions(ob)[handle] - rest[handle]).mean(axis=0)
             assert np.abs(moved - offset).max() < 1e-4, (moved, offset)
             print("after the switch the mesh follows the controller (%s): ok"
-                  % tool.header_text)
+                  % tool.status_text)
 
             # Esc between the stages: the vertex graph stays, the mesh as it was when the
             # switch began (Live may go on settling afterwards: read it at the cancel).

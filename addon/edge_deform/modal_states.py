@@ -1,0 +1,86 @@
+"""The states of the modal tools, Live Deform and Grab Deform, and their transitions: one
+state enum and one transition function per tool. No bpy: the operators
+(operators_live.py, operators_grab.py) observe Blender and act, then ask here where that
+leaves them; a pair that is not listed is a bug and raises (the operator then ends
+cleanly, never in a state nobody designed). tests/blender/test_unit_settle.py walks them.
+"""
+
+import enum
+
+
+class IllegalTransition(RuntimeError):
+    pass
+
+
+class Live(enum.Enum):
+    SOLVING = "solving"        # the targets or settings changed, not settled yet: iterate
+    AT_REST = "at rest"        # settled, or gave up settling: watch for changes only
+    PAUSED = "paused"          # the object is in another mode (Blender's tools own it)
+    REFUSED = "refused"        # a check or solve failed: wait until the user changes a fix
+    SWITCHING = "switching"    # building the new domain's graph, one stage per tick
+
+
+class LiveEvent(enum.Enum):
+    CHANGED = "changed"              # targets or settings differ from the last solve
+    ITERATED = "iterated"            # a tick iterated and has not settled
+    SETTLED = "settled"              # settled, or reached the give-up limit
+    MODE_LEFT = "mode left"          # the object left Object Mode
+    MODE_BACK = "mode back"          # ... and came back
+    FAILED = "failed"                # a refusal or a solver error
+    RETRY = "retry"                  # what the user can fix changed since the refusal
+    SWITCH = "switch"                # the domain setting differs from the graph's
+    SWITCH_ENDED = "switch ended"    # the new graph is ready, or the switch stopped
+
+
+_LIVE = {
+    Live.SOLVING: {LiveEvent.CHANGED: Live.SOLVING, LiveEvent.ITERATED: Live.SOLVING,
+                   LiveEvent.SETTLED: Live.AT_REST, LiveEvent.MODE_LEFT: Live.PAUSED,
+                   LiveEvent.FAILED: Live.REFUSED, LiveEvent.SWITCH: Live.SWITCHING},
+    Live.AT_REST: {LiveEvent.CHANGED: Live.SOLVING, LiveEvent.MODE_LEFT: Live.PAUSED,
+                   LiveEvent.FAILED: Live.REFUSED, LiveEvent.SWITCH: Live.SWITCHING},
+    Live.PAUSED: {LiveEvent.MODE_BACK: Live.SOLVING},
+    Live.REFUSED: {LiveEvent.RETRY: Live.SOLVING, LiveEvent.MODE_LEFT: Live.PAUSED},
+    Live.SWITCHING: {LiveEvent.SWITCH_ENDED: Live.SOLVING},
+}
+
+
+def live_next(state, event):
+    """Live Deform's transition function."""
+    try:
+        return _LIVE[state][event]
+    except KeyError:
+        raise IllegalTransition("Live Deform: %s in state %s" % (event.value, state.value))
+
+
+class Grab(enum.Enum):
+    WAITING = "waiting"        # started from a button: nothing moves before the pointer
+                               # is in the viewport (its motion counts from there)
+    DRAGGING = "dragging"      # the pointer (or the axis) changed: solve for it
+    SETTLING = "settling"      # the pointer stands still, not settled: iterate
+    AT_REST = "at rest"        # settled, gave up, or the solve failed: wait for the pointer
+
+
+class GrabEvent(enum.Enum):
+    ENTERED = "entered"        # the pointer reached the viewport
+    MOVED = "moved"            # the pointer moved or the axis changed
+    ITERATED = "iterated"
+    SETTLED = "settled"        # settled, or reached the give-up limit
+    FAILED = "failed"
+
+
+_GRAB = {
+    Grab.WAITING: {GrabEvent.ENTERED: Grab.DRAGGING},
+    Grab.DRAGGING: {GrabEvent.MOVED: Grab.DRAGGING, GrabEvent.ITERATED: Grab.SETTLING,
+                    GrabEvent.SETTLED: Grab.AT_REST, GrabEvent.FAILED: Grab.AT_REST},
+    Grab.SETTLING: {GrabEvent.MOVED: Grab.DRAGGING, GrabEvent.ITERATED: Grab.SETTLING,
+                    GrabEvent.SETTLED: Grab.AT_REST, GrabEvent.FAILED: Grab.AT_REST},
+    Grab.AT_REST: {GrabEvent.MOVED: Grab.DRAGGING},
+}
+
+
+def grab_next(state, event):
+    """Grab Deform's transition function."""
+    try:
+        return _GRAB[state][event]
+    except KeyError:
+        raise IllegalTransition("Grab Deform: %s in state %s" % (event.value, state.value))

@@ -1,0 +1,85 @@
+"""Text drawn over one 3D viewport while a tool runs (Live Deform's status and keys), at
+the top left of the view under Blender's own text (the view's and the object's name),
+clear of the redo panel at the bottom left. The header and the
+status bar stay Blender's: a G/R/S inside Live shows its typed value, axis and key hints
+there, and reports (a refused key) show in the status bar as always."""
+
+import time
+
+import blf
+import bpy
+
+NOTE_SECONDS = 5.0   # how long a note (a refused key) stays on screen
+
+
+class ViewportText:
+    """Lines of text over `area`'s view until remove(). `drawn` holds the lines the last
+    redraw showed (what the window tests read back)."""
+
+    def __init__(self, area):
+        self.area = area
+        self.lines = []
+        self.note, self.note_until = None, 0.0
+        self.drawn = None
+        self.handle = bpy.types.SpaceView3D.draw_handler_add(
+            self.draw, (), 'WINDOW', 'POST_PIXEL')
+
+    def set(self, lines):
+        if lines != self.lines:
+            self.lines = list(lines)
+            self.redraw()
+
+    def tell(self, text):
+        """A note under the lines for NOTE_SECONDS (why a key was refused)."""
+        self.note, self.note_until = text, time.monotonic() + NOTE_SECONDS
+        self.redraw()
+
+    def redraw(self):
+        try:
+            if self.area is not None:
+                self.area.tag_redraw()
+        except ReferenceError:
+            self.area = None
+
+    def remove(self):
+        if self.handle is not None:
+            bpy.types.SpaceView3D.draw_handler_remove(self.handle, 'WINDOW')
+            self.handle = None
+        self.redraw()
+
+    def shown_lines(self):
+        lines = list(self.lines)
+        if self.note and time.monotonic() < self.note_until:
+            lines.append(self.note)
+        return lines
+
+    def draw(self):
+        context = bpy.context
+        try:
+            if context.area != self.area:
+                return
+        except ReferenceError:
+            return
+        scale = context.preferences.system.ui_scale
+        size = round(12 * scale)
+        font = 0
+        try:
+            blf.size(font, size)
+        except TypeError:       # Blender 3.x still takes the dpi
+            blf.size(font, size, 72)
+        blf.enable(font, blf.SHADOW)
+        blf.shadow(font, 3, 0.0, 0.0, 0.0, 0.9)
+        x = 10 * scale
+        for region in context.area.regions:   # right of the toolbar when it overlaps
+            if region.type == 'TOOLS' and region.width > 1:
+                x += region.width
+        lines = self.shown_lines()
+        step = size * 1.5
+        top = context.region.height - 78 * scale   # under Blender's two lines of text
+        for i, text in enumerate(lines):
+            is_note = self.note is not None and text == self.note and i == len(lines) - 1
+            blf.color(font, 1.0, 0.8 if is_note else 1.0, 0.4 if is_note else 1.0, 1.0)
+            blf.position(font, x, top - i * step, 0)
+            blf.draw(font, text)
+        blf.disable(font, blf.SHADOW)
+        self.drawn = lines

@@ -1,0 +1,147 @@
+"""The settle policy of the modal tools (Live, Grab) and of Solve's chunks: how long a tick
+iterates, when a solve counts as settled, when the tools give up. No bpy and no imports
+from the add-on, so bench/bench_live_settle.py replays exactly this policy outside Blender
+and tests/blender/test_unit_settle.py checks it with plain Python (both load this file by
+its path).
+
+A tick spends a TIME budget on solver iterations, not a fixed count: TICK_BUDGET_MS, or,
+when Blender took longer than that between two ticks (a software-GL redraw of a big mesh
+takes 0.6-1.9 s), as long as Blender took, up to a cap. So slow redraws do not throttle
+the solve: the solver gets at least half of the wall time. The cap is lower while the
+targets move (the artist waits for the next frame) than while they stand still.
+"""
+
+import math
+import time
+
+TICK_BUDGET_MS = 30.0          # solve time per tick on a machine that redraws quickly
+MOVING_CAP_MS = 100.0          # the most a tick iterates while the targets move
+SETTLING_CAP_MS = 400.0        # ... and while they stand still (Esc still answers)
+# Some shapes never report convergence (a mode that does not contract, or tolerance 0):
+# past this many iterations since the last change the tools stop and say so, as a cold
+# solve stops at its max_iterations, so an idle tool does not keep a core busy for ever.
+SETTLE_LIMIT = 2000
+# Warm solve calls of one iteration each follow the same iterates as longer calls but may
+# never report convergence (measured on the plane, a shear-and-bend at λ 0.5: still
+# unconverged after 1500 one-iteration calls, where calls of 2 or more stop at iteration
+# 1519, as one long call does). So no call asks for fewer than this.
+LEAST_ITERATIONS = 2
+
+
+def is_settled(result):
+    """The one "settled" rule: the solver's own distance estimate says converged."""
+    return bool(result.converged)
+
+
+def iterations_within(budget_ms, ms_per_iteration, most=None):
+    """How many iterations fit in `budget_ms` at `ms_per_iteration` (None: not measured
+    yet), never fewer than LEAST_ITERATIONS nor more than `most`."""
+    if not ms_per_iteration:
+        n = LEAST_ITERATIONS
+    else:
+        n = max(LEAST_ITERATIONS, int(budget_ms / ms_per_iteration + 1e-6))
+    if most is not None:
+        n = min(n, int(most))
+        if 0 < int(most) - n < LEAST_ITERATIONS:
+            n = int(most)      # no one-iteration call left at the end
+    return max(1, n)
+
+
+class Settle:
+    """One tool's settle bookkeeping: the solver's measured speed, the time Blender takes
+    between ticks, and the iterations and wall time since the last change of the targets.
+
+    Each tick: `tick(solve, moving)` with solve(n) -> a SolveResult of n more warm
+    iterations. It calls solve in chunks until the tick's budget is spent, the solve
+    settled, or the give-up limit is reached, and returns the last result."""
+
+    def __init__(self, limit=None, clock=time.perf_counter):
+        self._limit = limit          # None: SETTLE_LIMIT as it is now (tests lower it)
+        self.clock = clock
+        self.ms_per_iteration = None
+        self.last_tick_end = None
+        self.changed()
+
+    # ---------------------------------------------------------------- bookkeeping
+
+    def changed(self):
+        """The targets or the settings changed: a new settle starts."""
+        self.iterations = 0          # since the change
+        self.solve_ms = 0.0          # solver time since the change
+        self.started = None          # when the first tick after the change began
+        self.waited_ms = 0.0         # wall time from that tick to the last result
+        self.result = None
+
+    def new_graph(self):
+        """A new graph has its own speed: measure again."""
+        self.ms_per_iteration = None
+        self.changed()
+
+    @property
+    def limit(self):
+        return SETTLE_LIMIT if self._limit is None else self._limit
+
+    @property
+    def settled(self):
+        return self.result is not None and is_settled(self.result)
+
+    @property
+    def gave_up(self):
+        return not self.settled and self.iterations >= self.limit
+
+    @property
+    def at_rest(self):
+        """Settled or given up: nothing to do until something changes."""
+        return self.settled or self.gave_up
+
+    def budget_ms(self, moving, now):
+        """This tick's time budget (see the module's docstring)."""
+        gap = 0.0 if self.last_tick_end is None else (now - self.last_tick_end) * 1e3
+        cap = MOVING_CAP_MS if moving else SETTLING_CAP_MS
+        return min(cap, max(TICK_BUDGET_MS, gap))
+
+    # ---------------------------------------------------------------- one tick
+
+    def tick(self, solve, moving):
+        now = self.clock()
+        if self.started is None:
+            self.started = now
+        budget = self.budget_ms(moving, now)
+        spent, result = 0.0, None
+        while True:
+            n = iterations_within(budget - spent, self.ms_per_iteration,
+                                  most=max(1, self.limit - self.iterations))
+            t0 = self.clock()
+            result = solve(n)
+            ms = (self.clock() - t0) * 1e3
+            done = max(1, int(result.iterations))
+            self.ms_per_iteration = ms / done
+            spent += ms
+            self.iterations += int(result.iterations)
+            self.solve_ms += ms
+            self.result = result
+            if self.at_rest or result.iterations < n:
+                break
+            if budget - spent < LEAST_ITERATIONS * self.ms_per_iteration:
+                break
+        self.last_tick_end = self.clock()
+        self.waited_ms = (self.last_tick_end - self.started) * 1e3
+        return result
+
+    def rested(self):
+        """A tick that did not iterate (nothing changed): Blender's time until the next
+        tick must not count as a slow redraw."""
+        self.last_tick_end = None
+
+
+def describe(settle, resume_hint):
+    """The words a modal tool shows for its settle. "settled" only by is_settled; the
+    time is the wall time the artist has waited since the last change, not the solver's."""
+    if settle.gave_up:
+        estimate = float(settle.result.distance_estimate)
+        how_far = ("estimated %.0e of the size away" % estimate if math.isfinite(estimate)
+                   else "distance unknown")
+        return ("stopped after %d iterations, not converged (%s); %s to go on"
+                % (settle.iterations, how_far, resume_hint))
+    return "%s, %d iterations, %.1f s" % ("settled" if settle.settled else "settling…",
+                                          settle.iterations, settle.waited_ms / 1e3)

@@ -1,0 +1,87 @@
+"""Background test: every default the manual (docs/addon.md, "Scripting contract") states
+equals the add-on's. Reads the defaults from the table's "default X" cells (and from
+"(defaults A and B)" phrasing, so an old wording cannot hide a wrong figure) and compares
+each with the property's own default (issue 21 item 14, issue 22 item 5)."""
+
+import os
+import re
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from helpers import ROOT, bpy, run  # noqa: E402
+
+MANUAL = os.path.join(ROOT, "docs", "addon.md")
+
+
+def contract_rows():
+    """{field: default text} from the scripting contract's table."""
+    with open(MANUAL, encoding="utf-8") as f:
+        text = f.read()
+    start = text.index("## Scripting contract")
+    table = text[start:text.index("\n\n", text.index("| field |", start))]
+    stated = {}
+    for line in table.splitlines()[2:]:
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        fields = re.findall(r"`(\w+)`", cells[0])
+        meaning = cells[-1]
+        many = re.search(r"defaults? ([^;)|]+?)(?:\)|;|$)", meaning)
+        if not many:
+            continue
+        values = re.split(r"\s+and\s+|,\s*", many.group(1).strip())
+        if len(values) == len(fields):
+            stated.update(zip(fields, values))
+        elif len(fields) == 1:
+            stated[fields[0]] = many.group(1).strip()
+    return stated
+
+
+def parse(text):
+    text = text.strip().strip("`")
+    if text in ("True", "False"):
+        return text == "True"
+    if text[:1] in "'\"" and text[-1:] == text[:1]:
+        return text[1:-1]
+    try:
+        return int(text)
+    except ValueError:
+        return float(text)
+
+
+def test_manual_states_the_code_defaults():
+    from edge_deform import engine
+    stated = contract_rows()
+    props = bpy.types.Object.bl_rna.properties["edge_deform"].fixed_type.properties
+    checked = []
+    for field, text in stated.items():
+        if field == "acceleration":
+            # "the first offered": the default is the fastest method this package has.
+            assert "first offered" in text, text
+            ob = bpy.data.objects.new("defaults", None)
+            try:
+                first = dict((b, a) for a, b in engine.ACCELERATIONS)[
+                    engine.offered_accelerations()[0]]
+                mesh = bpy.data.meshes.new("defaults")
+                holder = bpy.data.objects.new("defaults_mesh", mesh)
+                assert holder.edge_deform.acceleration == first, (
+                    holder.edge_deform.acceleration, first)
+                bpy.data.objects.remove(holder)
+                bpy.data.meshes.remove(mesh)
+            finally:
+                bpy.data.objects.remove(ob)
+            checked.append(field)
+            continue
+        value = parse(text)
+        default = props[field].default
+        if isinstance(value, float):
+            assert abs(default - value) <= 1e-9 * max(1.0, abs(value)), (field, value, default)
+        else:
+            assert default == value, (field, value, default)
+        checked.append(field)
+    for field in ("stiffness", "domain", "iterations", "tolerance", "output",
+                  "shape_key_name", "animate"):
+        assert field in stated, "the manual states no default for %s: %s" % (field, stated)
+    print("  manual defaults checked:", sorted(checked))
+
+
+if __name__ == "__main__":
+    run([test_manual_states_the_code_defaults])

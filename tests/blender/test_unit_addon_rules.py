@@ -1,0 +1,64 @@
+"""Unit tests (pytest, no Blender) of rules the add-on's source keeps (issue 22):
+  - every mode switch goes through compat.mode_set (Blender 5.0.1's crash guard);
+  - foreach_get/foreach_set appear only in mesh_arrays.py (one place moves bpy arrays);
+  - the modules the benchmark and the unit tests load by path import nothing from bpy.
+
+    /usr/bin/python3 -m pytest tests/blender/test_unit_addon_rules.py
+"""
+
+import ast
+import os
+
+ADDON = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
+    os.path.abspath(__file__)))), "addon", "edge_deform")
+
+
+def sources():
+    for name in sorted(os.listdir(ADDON)):
+        if name.endswith(".py"):
+            with open(os.path.join(ADDON, name), encoding="utf-8") as f:
+                yield name, ast.parse(f.read(), name)
+
+
+def attribute_calls(tree, attribute):
+    """Lines calling `<anything>.attribute(...)`."""
+    return [node.lineno for node in ast.walk(tree)
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)
+            and node.func.attr == attribute]
+
+
+def test_every_mode_set_goes_through_compat():
+    found = {name: attribute_calls(tree, "mode_set") for name, tree in sources()}
+    # compat.mode_set itself calls bpy.ops.object.mode_set; everyone else calls compat's.
+    bypass = {}
+    for name, tree in sources():
+        lines = [node.lineno for node in ast.walk(tree)
+                 if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)
+                 and node.func.attr == "mode_set"
+                 and not (isinstance(node.func.value, ast.Name)
+                          and node.func.value.id == "compat")]
+        if name != "compat.py" and lines:
+            bypass[name] = lines
+    assert not bypass, "bpy.ops.object.mode_set outside compat.py: %s" % bypass
+    assert found["compat.py"], "compat.mode_set calls Blender's operator"
+    assert sum(len(v) for k, v in found.items() if k != "compat.py") >= 5, found
+
+
+def test_foreach_only_in_mesh_arrays():
+    outside = {name: attribute_calls(tree, "foreach_get") + attribute_calls(tree, "foreach_set")
+               for name, tree in sources() if name != "mesh_arrays.py"}
+    outside = {k: v for k, v in outside.items() if v}
+    assert not outside, "foreach_get/foreach_set outside mesh_arrays.py: %s" % outside
+
+
+def test_path_loaded_modules_are_bpy_free():
+    for name, tree in sources():
+        if name not in ("settle.py", "modal_states.py"):
+            continue
+        imported = [alias.name for node in ast.walk(tree)
+                    if isinstance(node, (ast.Import, ast.ImportFrom))
+                    for alias in node.names]
+        relative = [node.module for node in ast.walk(tree)
+                    if isinstance(node, ast.ImportFrom) and node.level]
+        assert not relative and not any(m.split(".")[0] in ("bpy", "mathutils", "blf")
+                                        for m in imported), (name, imported, relative)

@@ -1,0 +1,204 @@
+"""Unit tests (pytest, no Blender) of the modal tools' settle policy (addon/edge_deform/
+settle.py) and state machines (modal_states.py). Both files are bpy-free and loaded by
+their path, as bench/bench_live_settle.py loads the policy.
+
+    /usr/bin/python3 -m pytest tests/blender/test_unit_settle.py
+"""
+
+import importlib.util
+import os
+from types import SimpleNamespace
+
+import pytest
+
+ADDON = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
+    os.path.abspath(__file__)))), "addon", "edge_deform")
+
+
+def load(name):
+    spec = importlib.util.spec_from_file_location("edge_deform_" + name,
+                                                  os.path.join(ADDON, name + ".py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+settle = load("settle")
+states = load("modal_states")
+
+
+class Clock:
+    """A clock the fake solver and the "redraws" advance."""
+
+    def __init__(self):
+        self.now = 100.0
+
+    def __call__(self):
+        return self.now
+
+
+class Solver:
+    """solve(n): n iterations at ms_per_iteration each; converges after `converge_at`
+    iterations in all (None: never). Records the calls."""
+
+    def __init__(self, clock, ms_per_iteration, converge_at=None, estimate=0.01):
+        self.clock, self.ms = clock, ms_per_iteration
+        self.converge_at, self.estimate = converge_at, estimate
+        self.done, self.calls = 0, []
+
+    def __call__(self, n):
+        self.calls.append(n)
+        if self.converge_at is not None:
+            n = max(0, min(n, self.converge_at - self.done))
+        self.done += n
+        self.clock.now += n * self.ms / 1e3
+        converged = self.converge_at is not None and self.done >= self.converge_at
+        return SimpleNamespace(iterations=n, converged=converged,
+                               distance_estimate=0.0 if converged else self.estimate)
+
+
+def test_iterations_within_the_budget():
+    assert settle.iterations_within(30.0, None) == settle.LEAST_ITERATIONS   # measure
+    assert settle.iterations_within(30.0, 3.0) == 10
+    assert settle.iterations_within(30.0, 50.0) == settle.LEAST_ITERATIONS   # never one
+    assert settle.iterations_within(30.0, 3.0, most=4) == 4
+    assert settle.iterations_within(30.0, 3.0, most=11) == 11   # no 1-iteration call left
+    assert settle.iterations_within(30.0, 3.0, most=1) == 1
+
+
+def test_a_tick_spends_its_time_budget_not_a_count():
+    clock = Clock()
+    s = settle.Settle(clock=clock)
+    solver = Solver(clock, ms_per_iteration=1.0)
+    s.tick(solver, moving=True)
+    # The first call measures (2 iterations); the rest of the 30 ms goes on iterating.
+    assert solver.calls[0] == settle.LEAST_ITERATIONS
+    assert 27 <= s.iterations <= 30, s.iterations
+    spent = (clock.now - 100.0) * 1e3
+    assert spent <= settle.TICK_BUDGET_MS + 1e-9, spent
+
+
+def test_slow_redraws_do_not_throttle_the_solve():
+    """A software-GL redraw of 1.5 s between ticks: each tick then iterates up to its cap
+    (the solver gets at least as long as the redraw, up to the cap), where a fixed count
+    gave two iterations a redraw."""
+    clock = Clock()
+    s = settle.Settle(clock=clock)
+    solver = Solver(clock, ms_per_iteration=10.0)
+    s.tick(solver, moving=False)
+    first = s.iterations
+    clock.now += 1.5                      # Blender redraws for 1.5 s
+    s.tick(solver, moving=False)
+    assert s.iterations - first == settle.SETTLING_CAP_MS / 10.0, s.iterations - first
+    clock.now += 1.5
+    before = s.iterations
+    s.tick(solver, moving=True)           # while the targets move: the lower cap
+    assert s.iterations - before == settle.MOVING_CAP_MS / 10.0
+    assert settle.MOVING_CAP_MS < settle.SETTLING_CAP_MS
+    clock.now += 0.005                    # a quick redraw: the base budget
+    before = s.iterations
+    s.tick(solver, moving=False)
+    assert s.iterations - before == settle.TICK_BUDGET_MS / 10.0
+
+
+def test_idle_time_is_not_a_slow_redraw():
+    clock = Clock()
+    s = settle.Settle(clock=clock)
+    solver = Solver(clock, ms_per_iteration=1.0)
+    s.tick(solver, moving=False)
+    s.rested()                            # ticks that did not iterate
+    clock.now += 60.0
+    before = s.iterations
+    s.tick(solver, moving=False)
+    assert s.iterations - before <= settle.TICK_BUDGET_MS
+
+
+def test_settled_only_when_the_solver_says_converged():
+    clock = Clock()
+    s = settle.Settle(clock=clock)
+    solver = Solver(clock, ms_per_iteration=1.0, converge_at=45)
+    s.tick(solver, moving=True)
+    assert not s.settled and not s.at_rest
+    assert settle.describe(s, "move").startswith("settling…, 30 iterations"), \
+        settle.describe(s, "move")
+    clock.now += 0.02
+    s.tick(solver, moving=False)
+    assert s.settled and s.at_rest and s.iterations == 45
+    text = settle.describe(s, "move")
+    assert text.startswith("settled, 45 iterations"), text
+    # The time shown is the artist's wait since the change (redraws included), not the
+    # solver's 45 ms.
+    assert text.endswith("0.1 s"), text
+    s.changed()
+    assert not s.settled and s.iterations == 0
+
+
+def test_give_up_at_the_limit_and_say_so():
+    clock = Clock()
+    s = settle.Settle(limit=50, clock=clock)
+    solver = Solver(clock, ms_per_iteration=1.0, estimate=float("inf"))
+    while not s.at_rest:
+        s.tick(solver, moving=False)
+        clock.now += 0.01
+    assert s.gave_up and not s.settled and s.iterations == 50   # never past the limit
+    text = settle.describe(s, "move a controller")
+    assert text == ("stopped after 50 iterations, not converged (distance unknown); "
+                    "move a controller to go on"), text
+    s.result.distance_estimate = 0.02
+    assert "estimated 2e-02 of the size away" in settle.describe(s, "x")
+
+
+def test_the_limit_follows_the_module_constant(monkeypatch):
+    s = settle.Settle()
+    monkeypatch.setattr(settle, "SETTLE_LIMIT", 7)
+    assert s.limit == 7
+
+
+def test_is_settled_reads_converged():
+    assert settle.is_settled(SimpleNamespace(converged=True))
+    assert not settle.is_settled(SimpleNamespace(converged=False))
+
+
+def test_live_transitions():
+    L, E = states.Live, states.LiveEvent
+    go = states.live_next
+    s = L.SOLVING
+    s = go(s, E.ITERATED)
+    assert s == L.SOLVING
+    s = go(s, E.SETTLED)
+    assert s == L.AT_REST
+    assert go(s, E.CHANGED) == L.SOLVING
+    assert go(s, E.MODE_LEFT) == L.PAUSED
+    assert go(L.PAUSED, E.MODE_BACK) == L.SOLVING
+    assert go(go(L.SOLVING, E.FAILED), E.RETRY) == L.SOLVING
+    assert go(go(L.AT_REST, E.SWITCH), E.SWITCH_ENDED) == L.SOLVING
+    with pytest.raises(states.IllegalTransition):
+        go(L.PAUSED, E.ITERATED)          # a paused Live never solves
+    with pytest.raises(states.IllegalTransition):
+        go(L.SWITCHING, E.CHANGED)        # nothing else happens during a switch
+    # Every state can be left (no dead end but the tool's own end).
+    for state in L:
+        assert any(True for e in E if _legal(go, state, e))
+
+
+def _legal(go, state, event):
+    try:
+        go(state, event)
+        return True
+    except states.IllegalTransition:
+        return False
+
+
+def test_grab_transitions():
+    G, E = states.Grab, states.GrabEvent
+    go = states.grab_next
+    assert go(G.WAITING, E.ENTERED) == G.DRAGGING
+    with pytest.raises(states.IllegalTransition):
+        go(G.WAITING, E.MOVED)            # before the pointer is in the view: nothing
+    assert go(G.DRAGGING, E.ITERATED) == G.SETTLING
+    assert go(G.SETTLING, E.SETTLED) == G.AT_REST
+    assert go(G.SETTLING, E.MOVED) == G.DRAGGING
+    assert go(G.DRAGGING, E.FAILED) == G.AT_REST
+    assert go(G.AT_REST, E.MOVED) == G.DRAGGING
+    with pytest.raises(states.IllegalTransition):
+        go(G.AT_REST, E.ITERATED)
