@@ -43,18 +43,32 @@ if(CMAKE_SCRIPT_MODE_FILE)
   endfunction()
 
   function(ed_stage_wheel root)
-    # The manifest names the wheel it ships (and its platform): it must be the one just built.
+    # The manifest lists the wheels built here (one per Blender Python the machine has,
+    # scripts/build_wheel.sh), generated: Blender installs the one matching its Python.
     file(GLOB wheels ${ED_WHEEL_DIR}/edgedeform-*.whl)
-    list(LENGTH wheels n)
-    if(NOT n EQUAL 1)
-      message(FATAL_ERROR "Expected one wheel in ${ED_WHEEL_DIR}, found: ${wheels}")
+    if(NOT wheels)
+      message(FATAL_ERROR "No wheel in ${ED_WHEEL_DIR}: run scripts/build_wheel.sh")
     endif()
-    get_filename_component(wheel ${wheels} NAME)
+    list(SORT wheels)
+    set(entries "")
+    foreach(wheel ${wheels})
+      get_filename_component(name ${wheel} NAME)
+      if(NOT name MATCHES "_x86_64\\.whl$")
+        message(FATAL_ERROR "${name}: the manifest's platforms are linux-x64 only")
+      endif()
+      string(APPEND entries "  \"./wheels/${name}\",\n")
+    endforeach()
     file(READ ${root}/blender_manifest.toml manifest)
-    if(NOT manifest MATCHES "\"./wheels/${wheel}\"")
-      message(FATAL_ERROR "addon/edge_deform/blender_manifest.toml does not list the wheel "
-        "built here, ./wheels/${wheel}: update its `wheels` (and `platforms`) entries")
+    if(manifest MATCHES "\nwheels *=")
+      message(FATAL_ERROR "addon/edge_deform/blender_manifest.toml must not list wheels: "
+        "the extension build writes them")
     endif()
+    string(REGEX REPLACE "\n(platforms = [^\n]*\n)" "\n\\1wheels = [\n${entries}]\n"
+           generated "${manifest}")
+    if(generated STREQUAL manifest)
+      message(FATAL_ERROR "blender_manifest.toml has no `platforms = ...` line to put the wheels after")
+    endif()
+    file(WRITE ${root}/blender_manifest.toml "${generated}")
     file(COPY ${wheels} DESTINATION ${root}/wheels)
   endfunction()
 

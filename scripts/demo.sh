@@ -26,15 +26,17 @@ bash scripts/install_addon.sh "$build"
 step "4/5 sample scenes (blend_samples/*.blend)"
 # Blender prints harmless EGL warnings without a display: keep the log readable. Old scenes
 # go first, so that the check below sees this run's files, not a previous run's.
+# --python-use-system-env: Blender 4.x runs its Python isolated and ignores PYTHONPATH (3.4
+# reads it anyway); with it, the edgedeform module reaches make_samples.py on both.
 rm -f blend_samples/*.blend blend_samples/*.blend1
 PYTHONPATH="$build/python${PYTHONPATH:+:$PYTHONPATH}" \
-blender -b --factory-startup --python-exit-code 1 \
+blender -b --factory-startup --python-use-system-env --python-exit-code 1 \
   --python blend_samples/make_samples.py -- --out blend_samples 2>&1 | grep -v '^EGL Error' \
   | grep -E 'make_samples|Error|Traceback' || true
 test -f blend_samples/bar.blend
 
 step "5/5 demo"
 PYTHONPATH="$build/python${PYTHONPATH:+:$PYTHONPATH}" \
-blender -b --factory-startup --python-exit-code 1 \
+blender -b --factory-startup --python-use-system-env --python-exit-code 1 \
   --python demo/run_demo.py -- --module-path "$build/python" --samples-dir blend_samples "$@" \
   2>&1 | grep -v -E '^(EGL Error|Fra:|Saved:| *Time:|Info: )|^ *$'

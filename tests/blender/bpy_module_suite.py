@@ -51,24 +51,36 @@ def private_user_folders(home):
 
 
 def check_contents(zip_path):
-    """What Blender's validation does not check: the wheel is the package, one version."""
+    """What Blender's validation does not check: the zip ships exactly the wheels its
+    manifest names, one per Python, each the package at the add-on's version, and one of
+    them is for the Python running this check."""
     ext = zipfile.ZipFile(zip_path)
     names = ext.namelist()
     manifest = tomllib.loads(ext.read("blender_manifest.toml").decode())
     assert "__init__.py" in names, names
     assert not any(n.startswith("edgedeform/") or "__pycache__" in n for n in names), names
-    wheels = [n for n in names if n.startswith("wheels/") and n.endswith(".whl")]
-    assert ["./" + n for n in wheels] == manifest["wheels"], (wheels, manifest["wheels"])
-    wheel = zipfile.ZipFile(io.BytesIO(ext.read(wheels[0])))
-    assert any(n.startswith("edgedeform/_core") and n.endswith(".so") for n in wheel.namelist())
+    wheels = sorted(n for n in names if n.startswith("wheels/") and n.endswith(".whl"))
+    assert ["./" + n for n in wheels] == sorted(manifest["wheels"]), (wheels, manifest["wheels"])
+    tags = [os.path.basename(w).split("-")[2] for w in wheels]
+    assert len(set(tags)) == len(tags), "two wheels for one Python: %s" % wheels
+    this_python = "cp%d%d" % sys.version_info[:2]
+    assert this_python in tags, "no %s wheel for this Python in %s" % (this_python, wheels)
     init = ext.read("__init__.py").decode()
     bl_info = re.search(r'"version": \((\d+), (\d+), (\d+)\)', init)
-    versions = {manifest["version"], wheels[0].split("-")[1], ".".join(bl_info.groups())}
-    assert len(versions) == 1, "manifest, wheel and bl_info versions differ: %s" % versions
-    assert manifest["platforms"] == ["linux-x64"] and wheels[0].endswith("_x86_64.whl"), manifest
-    # Self-contained: SuiteSparse and its BLAS travel in the wheel (auditwheel).
-    assert any("libcholmod" in n for n in wheel.namelist()), "CHOLMOD is not in the wheel"
+    for name in wheels:
+        wheel = zipfile.ZipFile(io.BytesIO(ext.read(name)))
+        tag = os.path.basename(name).split("-")[2]
+        assert any(n.startswith("edgedeform/_core.cpython-%s-" % tag[2:]) and n.endswith(".so")
+                   for n in wheel.namelist()), (name, "has no _core module for its Python")
+        versions = {manifest["version"], os.path.basename(name).split("-")[1],
+                    ".".join(bl_info.groups())}
+        assert len(versions) == 1, "manifest, wheel and bl_info versions differ: %s" % versions
+        assert name.endswith("_x86_64.whl"), name
+        # Self-contained: SuiteSparse and its BLAS travel in the wheel (auditwheel).
+        assert any("libcholmod" in n for n in wheel.namelist()), name + ": no CHOLMOD inside"
+    assert manifest["platforms"] == ["linux-x64"], manifest
     assert "permissions" not in manifest, "the add-on touches no files, network or devices"
+    print("zip holds the wheels %s, as its manifest lists" % ", ".join(tags), flush=True)
 
 
 def with_bad_tagline(zip_path, home):
@@ -112,6 +124,9 @@ def install(bpy, zip_path):
     wheel_site = os.path.join(ext_dir, ".local")
     assert os.path.realpath(edgedeform.__file__).startswith(wheel_site), (
         "edgedeform should come from the extension's wheel, not " + edgedeform.__file__)
+    # Blender picked the wheel of its own Python out of the several the zip holds.
+    suffix = ".cpython-%d%d-" % sys.version_info[:2]
+    assert suffix in edgedeform._core.__file__, edgedeform._core.__file__
     assert hasattr(bpy.types.Object, "edge_deform")
     print("bpy %s: installed %s; edgedeform %s from %s" % (
         bpy.app.version_string, module.__file__, edgedeform.__version__,

@@ -1,15 +1,16 @@
 """Last of the bpy tests: which Blender versions passed which suites in this run.
 
-    check_bpy_results.py RESULTS_DIR MIN_VERSION
+    check_bpy_results.py RESULTS_DIR MIN_VERSION [MIN_VERSION ...]
 
-Fails unless at least one Blender >= MIN_VERSION passed a suite: a run whose bpy versions
-were all skipped (none installable) must not look green.
+Fails unless, for each MIN_VERSION, at least one Blender >= MIN_VERSION passed a suite: a run
+whose bpy versions were all skipped (none installable) must not look green, and neither
+must one where only the cp311 Blender releases ran on a machine that has Python 3.13.
 """
 
 import os
 import sys
 
-results, minimum = sys.argv[1], tuple(int(x) for x in sys.argv[2].split("."))
+results = sys.argv[1]
 passed = {}
 for name in sorted(os.listdir(results)) if os.path.isdir(results) else []:
     if name.endswith(".pass"):
@@ -17,8 +18,10 @@ for name in sorted(os.listdir(results)) if os.path.isdir(results) else []:
         passed.setdefault(version, []).append(suite)
 for version, suites in sorted(passed.items()):
     print("Blender %s (bpy): passed %s" % (version, ", ".join(suites)))
-recent = [v for v in passed if tuple(int(x) for x in v.split(".")[:2]) >= minimum]
-if not recent:
-    print("FAILED: no Blender >= %s ran a suite in this run (all bpy versions skipped?)"
-          % sys.argv[2])
-    sys.exit(1)
+failed = False
+for text in sys.argv[2:]:
+    minimum = tuple(int(x) for x in text.split("."))
+    if not [v for v in passed if tuple(int(x) for x in v.split(".")[:2]) >= minimum]:
+        print("FAILED: no Blender >= %s passed a suite in this run (its bpy skipped?)" % text)
+        failed = True
+sys.exit(1 if failed else 0)
