@@ -107,28 +107,28 @@ def run(mesh, domain, lam, drag_ticks, log):
         drag["core_ms"] += core_ms(r)
     drag["distance_when_stopped"] = float(
         np.linalg.norm(np.asarray(r.positions) - X_ref, axis=1).max() / dg)
-    settle = {"ticks": 0, "iterations": 0, "core_ms": 0.0, "wall_ms": 0.0, "cpu_ms": 0.0}
+    rest = {"ticks": 0, "iterations": 0, "core_ms": 0.0, "wall_ms": 0.0, "cpu_ms": 0.0}
     c0 = time.process_time()
-    while settle["ticks"] < MAX_SETTLE_TICKS:  # the mouse stopped
+    while rest["ticks"] < MAX_SETTLE_TICKS:  # the mouse stopped
         r, wall = tick(d, final, budget)
-        settle["ticks"] += 1
-        settle["iterations"] += r.iterations
-        settle["core_ms"] += core_ms(r)
-        settle["wall_ms"] += max(TIMER_MS, wall)
+        rest["ticks"] += 1
+        rest["iterations"] += r.iterations
+        rest["core_ms"] += core_ms(r)
+        rest["wall_ms"] += max(TIMER_MS, wall)
         if r.converged:
             break
-        if settle["ticks"] % 200 == 0:
-            log(f"settling: {settle['ticks']} ticks, estimate {r.distance_estimate:.1e}")
-    settle["cpu_ms"] = (time.process_time() - c0) * 1e3
-    settle["converged"] = bool(r.converged)
-    settle["estimate"] = float(r.distance_estimate)
-    settle["distance"] = float(np.linalg.norm(np.asarray(r.positions) - X_ref, axis=1).max() / dg)
-    settle["ms_per_iteration"] = settle["core_ms"] / max(1, settle["iterations"])
+        if rest["ticks"] % 200 == 0:
+            log(f"settling: {rest['ticks']} ticks, estimate {r.distance_estimate:.1e}")
+    rest["cpu_ms"] = (time.process_time() - c0) * 1e3
+    rest["converged"] = bool(r.converged)
+    rest["estimate"] = float(r.distance_estimate)
+    rest["distance"] = float(np.linalg.norm(np.asarray(r.positions) - X_ref, axis=1).max() / dg)
+    rest["ms_per_iteration"] = rest["core_ms"] / max(1, rest["iterations"])
     out = {"mesh": mesh, "vertices": len(V), "domain": domain, "lambda": lam,
            "threads": os.environ.get("OMP_NUM_THREADS", "default"), "rate_memory": RATE_MEMORY,
            "finished": machine_info()["date"],
            "reference_iterations": ref_its, "reference_residual": ref_res,
-           "drag": drag, "settle": settle}
+           "drag": drag, "settle": rest}
     log(json.dumps(out))
     return out
 
