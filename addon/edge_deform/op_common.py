@@ -236,6 +236,28 @@ def set_header(area, text):
         pass
 
 
+# Regions of the viewport that lie over its main region: a key there is theirs.
+OVER_THE_VIEW = {'HUD', 'UI', 'TOOLS', 'HEADER', 'TOOL_HEADER', 'NAVIGATION_BAR',
+                 'ASSET_SHELF', 'ASSET_SHELF_HEADER'}
+
+
+def over_the_view(area, event):
+    """Is the pointer over `area`'s 3D view itself (not a field of the sidebar, the redo
+    panel or a header lying over it)? Keys elsewhere belong to what is under the pointer."""
+    if area is None:
+        return False
+    x, y = event.mouse_x, event.mouse_y
+    view = False
+    for region in area.regions:
+        inside = (region.width > 1 and region.height > 1
+                  and region.x <= x < region.x + region.width
+                  and region.y <= y < region.y + region.height)
+        if inside and region.type in OVER_THE_VIEW:
+            return False
+        view = view or (inside and region.type == 'WINDOW')
+    return view
+
+
 def redraw_views(context):
     """Redraw every 3D viewport (its sidebar too): the panel shows state that changed
     without a redraw of its own (bound, a tool ended)."""

@@ -19,7 +19,7 @@ from mathutils import Vector
 
 from . import compat, engine, lifecycle, mesh_arrays, settle
 from .modal_states import Grab, GrabEvent, grab_next
-from .op_common import ModalTool, error_text, guarded, poll_mesh, tell
+from .op_common import ModalTool, error_text, guarded, over_the_view, poll_mesh, tell
 
 AXES = {'X': 0, 'Y': 1, 'Z': 2}
 NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'TRACKPADPAN',
@@ -88,7 +88,9 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.depth = ob.matrix_world @ Vector(self.start.mean(axis=0))
         self.region, self.rv3d = view_region(context)
         self.mouse = self.in_region(event)
-        self.origin = self.mouse if self.inside(self.mouse) else None
+        # From the panel's button the pointer is over the sidebar, which lies over the
+        # view: the drag starts where the pointer reaches the view itself.
+        self.origin = self.mouse if over_the_view(context.area, event) else None
         self.state = Grab.DRAGGING if self.origin is not None else Grab.WAITING
         self.axis = None
         self.first = True           # the first solve starts from what is shown
@@ -110,9 +112,6 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         """The pointer in the view region's pixels (events from the sidebar count in
         the sidebar's)."""
         return (event.mouse_x - self.region.x, event.mouse_y - self.region.y)
-
-    def inside(self, xy):
-        return 0 <= xy[0] < self.region.width and 0 <= xy[1] < self.region.height
 
     def offset(self):
         """Pointer motion since the origin, in the view plane through the dragged
@@ -179,7 +178,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         if event.type == 'MOUSEMOVE':
             self.mouse = self.in_region(event)
             if self.state == Grab.WAITING:
-                if self.inside(self.mouse):
+                if over_the_view(self.area, event):
                     self.origin = self.mouse
                     self.go(GrabEvent.ENTERED)
                     self.show()

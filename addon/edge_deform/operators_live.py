@@ -26,8 +26,8 @@ import bpy
 
 from . import engine, lifecycle, overlay, preferences, settle
 from .modal_states import Live, LiveEvent, live_next
-from .op_common import (ModalTool, Stages, deformed_object, error_text, guarded, poll_mesh,
-                        tell)
+from .op_common import (ModalTool, Stages, deformed_object, error_text, guarded,
+                        over_the_view, poll_mesh, tell)
 
 LAMBDA_STEP = 0.05
 # The settings Live reads, by what a change needs: a new read of the groups and a rebind,
@@ -40,28 +40,6 @@ REBIND_SETTINGS = SHAPE_GROUPS + OUTPUT_SETTINGS
 RESTORED_SETTINGS = SHAPE_GROUPS + ("stiffness", "domain", "iterations", "tolerance",
                                     "acceleration")
 WATCHED_SETTINGS = RESTORED_SETTINGS + OUTPUT_SETTINGS
-# Regions of the viewport that lie over its main region: a key there is theirs.
-OVER_THE_VIEW = {'HUD', 'UI', 'TOOLS', 'HEADER', 'TOOL_HEADER', 'NAVIGATION_BAR',
-                 'ASSET_SHELF', 'ASSET_SHELF_HEADER'}
-
-
-def over_the_view(area, event):
-    """Is the pointer over `area`'s 3D view itself (not a field of the sidebar, the redo
-    panel or a header lying over it)? Keys elsewhere belong to what is under the pointer."""
-    if area is None:
-        return False
-    x, y = event.mouse_x, event.mouse_y
-    view = False
-    for region in area.regions:
-        inside = (region.width > 1 and region.height > 1
-                  and region.x <= x < region.x + region.width
-                  and region.y <= y < region.y + region.height)
-        if inside and region.type in OVER_THE_VIEW:
-            return False
-        view = view or (inside and region.type == 'WINDOW')
-    return view
-
-
 def handle_settings(s):
     return tuple((h.vertex_group, h.controller) for h in s.handles)
 
