@@ -357,7 +357,7 @@ def main(argv=None):
                                     "koala": k}, indent=1))
         return
     result = {"machine": machine, "build_info": ed.build_info(), "budget": args.budget,
-              "goal": GOAL, "command": "bench/bench_convergence.py " + " ".join(argv or sys.argv[1:]),
+              "goal": GOAL, "command": " ".join(["bench/bench_convergence.py"] + (argv or sys.argv[1:])),
               "rows": []}
     path = Path(args.json or out / "convergence.json")
     path.parent.mkdir(parents=True, exist_ok=True)

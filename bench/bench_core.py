@@ -448,15 +448,10 @@ def roi_table(result):
 
 
 def markdown(result):
-    m = result["machine"]
     bi = result.get("build_info", {})
     rows = sorted(result["rows"], key=row_order)
-    return f"""## Core solver (bench/bench_core.py)
-
-Machine: {m['cpu']}, {m['cores']} cores (1-minute load average {m.get('load_1min', 0):.1f}
-when the run finished). Date: {m['date']}.
-Build: solver `{bi.get('solver', '?')}`, threads {bi.get('threads', '?')} (the core's own
-worker pool, see "Where the time goes").
+    return f"""Build: solver `{bi.get('solver', '?')}`, threads {bi.get('threads', '?')} (the core's own
+worker pool). Rows are merged across the commands above; each row keeps its own load.
 
 Edit "lift": lowest 20 % of the height static, top 10 % raised by ¼ of the bounding-box
 diagonal; height = z (no mesh here is flat in z). Tolerance {result['tolerance']:g} (the
@@ -482,10 +477,7 @@ is measured apart with `--peak`).
 Speed targets (per iteration, precompute, memory, λ and handle changes), as measured in these rows:
 
 {targets(rows, result.get("peak_memory", ()))}
-{busy_ab_table(result)}{roi_table(result)}
-Commands (rows merged across runs, each row keeps its own load):
-{chr(10).join("- `" + c + "`" for c in result.get("commands", []))}
-"""
+{busy_ab_table(result)}{roi_table(result)}"""
 
 
 def main(argv=None):

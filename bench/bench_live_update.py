@@ -141,56 +141,5 @@ def main():
     print("wrote", out)
 
 
-def markdown(info, results):
-    lines = [
-        "## Live update in Blender (add-on)",
-        "",
-        "`bench/bench_live_update.py`, run inside Blender %s (background). One live update "
-        "= read the controller and compute the handle targets, **one warm-started "
-        "iteration**, write the shape key, `mesh.update()`; the depsgraph evaluation Blender "
-        "runs before drawing is listed apart. Edit: a drag of the top 10 %% of the height "
-        "(one Empty moving a little every update), lowest 20 %% static, λ = 0.5. Median "
-        "of %d updates after 3 warm-up updates." % (info["blender"], results[0]["updates"]),
-        "",
-        "Machine: %s, %d cores (shared with other jobs; 1-min load %.1f), solver %s, "
-        "OpenMP threads %s. Date: %s." % (
-            info["cpu"], info["cores"], info["load_1min"] or 0, info["build"]["solver"],
-            info["build"]["threads"], info["date"]),
-        "",
-        "| mesh | vertices | domain | nodes | bind ms | targets ms | solve ms (local / rhs "
-        "/ back-sub) | write ms | **update ms** | **updates/s** | depsgraph ms | "
-        "updates/s incl. depsgraph |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|",
-    ]
-    for r in results:
-        lines.append(
-            "| %s | %d | %s | %d | %.0f | %.2f | %.1f (%.1f / %.1f / %.1f) | %.1f | "
-            "**%.1f** | **%.0f** | %.1f | %.0f |" % (
-                r["mesh"], r["vertices"], r["domain"], r["nodes"], r["bind_ms"],
-                r["targets_ms"], r["solve_ms"], r["local_ms"], r["rhs_ms"], r["backsub_ms"],
-                r["write_ms"], r["update_ms"], r["updates_per_s"], r["depsgraph_ms"],
-                r["with_depsgraph_per_s"]))
-    edge50 = [r for r in results if r["size"] == "50k" and r["domain"] == "edge"]
-    if edge50:
-        r = edge50[0]
-        verdict = "met" if r["updates_per_s"] >= 20 else "NOT met"
-        lines += ["", "Live-editing target: at least 20 updates a second at 50k vertices, edge "
-                  "domain: **%s** (%.0f/s; %.0f/s counting the depsgraph evaluation)."
-                  % (verdict, r["updates_per_s"], r["with_depsgraph_per_s"]),
-                  "", "Where the time goes at 50k, edge: the package's `solve` call is "
-                  "%.1f of %.1f ms (its own counters: local %.1f, right side %.1f, "
-                  "back-substitution %.1f; the remaining %.1f ms fall outside them), "
-                  "the add-on's part (targets %.2f ms, shape-key write %.1f ms) "
-                  "is %.0f %%. Blender's depsgraph then spends %.1f ms evaluating the shape "
-                  "key before drawing." % (
-                      r["solve_ms"], r["update_ms"], r["local_ms"], r["rhs_ms"],
-                      r["backsub_ms"],
-                      r["solve_ms"] - r["local_ms"] - r["rhs_ms"] - r["backsub_ms"],
-                      r["targets_ms"], r["write_ms"],
-                      100.0 * (r["targets_ms"] + r["write_ms"]) / r["update_ms"],
-                      r["depsgraph_ms"])]
-    return "\n".join(lines)
-
-
 if __name__ == "__main__":
     main()

@@ -130,7 +130,26 @@ def main():
                   f"{100 * row['remove_vs_fresh']:.0f} %", flush=True)
     if args.json:
         args.json.write_text(json.dumps({"machine": machine_info(), "unit": "millions of instructions (callgrind)",
-                                         "rows": rows}, indent=2) + "\n")
+                                         "command": "OMP_NUM_THREADS=1 bench/callgrind_handle_change.py "
+                                         + " ".join(sys.argv[1:]), "rows": rows}, indent=2) + "\n")
+
+
+def markdown(result):
+    lines = ["One thread, edge domain, λ = 0.5, the core benchmark's lift; a belt (the 2 % band "
+             "around 55 % of the height, bench_core.belt_group) added as a handle group, then "
+             "removed. Counts of set_constraints + the next ensure_factored, in millions of "
+             "instructions (callgrind: independent of the machine's load). Share = against the "
+             "fresh constraint set's own count.", "",
+             "| mesh | fresh set | belt added | share | belt removed | share | fresh lift + belt | added / that |",
+             "|---|---|---|---|---|---|---|---|"]
+    for r in result["rows"]:
+        final = (f"{r['final_fresh_M']:,.0f} M | {100 * r['add_vs_final_fresh']:.0f} %"
+                 if "final_fresh_M" in r else "– | –")
+        lines.append(f"| {r['mesh']} | {r['fresh_M']:,.0f} M | {r['add_M']:,.0f} M | "
+                     f"{100 * r['add_vs_fresh']:.0f} % | {r['remove_M']:,.0f} M | "
+                     f"{100 * r['remove_vs_fresh']:.0f} % | {final} |")
+    lines += ["", "Target: a handle group added or removed costs ≤ 30 % of a full factorization."]
+    return "\n".join(lines)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,26 @@
+"""bench/bench_convergence.py on one small cell: a row per cell with every method's count."""
+
+from _bench import finite, load, run
+
+import edits  # noqa: E402
+
+
+def test_one_cell_for_every_method(tmp_path):
+    import edgedeform as ed
+    out = tmp_path / "convergence.json"
+    run("bench_convergence.py", "--meshes", "spot", "--edits", "lift,twist", "--domains", "edge",
+        "--lambdas", "0.5", "--budget", "400", "--json", out)
+    result = load(out)
+    assert [(r["mesh"], r["edit"]) for r in result["rows"]] == [("spot", "lift"), ("spot", "twist")]
+    for r in result["rows"]:
+        assert list(r["methods"]) == edits.accelerations(ed)
+        for m, v in r["methods"].items():
+            assert v["iterations"] is None or 0 < v["iterations"] <= 400, m
+            assert finite(v["ms"]) and v["ms"] > 0, m
+        # 829 vertices: the accelerated methods get there inside the budget
+        assert all(v["iterations"] for m, v in r["methods"].items() if m != "none")
+        assert finite(r["default_distance"], r["reference_residual"]) and r["reference_residual"] < 1e-9
+    assert set(result["summary"]["median_ratio_to_plain"]) == set(edits.accelerations(ed)) - {"none"}
+    import bench_convergence
+    table = bench_convergence.markdown(result)
+    assert "| spot | twist | edge | 0.5 |" in table

@@ -1,0 +1,36 @@
+"""bench/bench_live_update.py inside Blender (background) on the 1k mesh: both domains,
+every part of an update timed."""
+
+import os
+import shutil
+import subprocess
+
+import pytest
+
+from _bench import BENCH, BUILD, ROOT, finite, load
+
+BLENDER = shutil.which("blender", path="/usr/bin:/bin") or shutil.which("blender")
+
+
+@pytest.mark.skipif(BLENDER is None, reason="Blender is not installed")
+def test_live_update_in_blender(tmp_path):
+    out = tmp_path / "live_update.json"
+    env = dict(os.environ, EDGEDEFORM_PYTHONPATH=str(BUILD / "python"),
+               EDGEDEFORM_ADDON_DIR=str(ROOT / "addon"),
+               BLENDER_USER_SCRIPTS=str(tmp_path / "scripts"),
+               BLENDER_USER_CONFIG=str(tmp_path / "config"),
+               PATH="/usr/bin:/bin:" + os.environ.get("PATH", ""))
+    proc = subprocess.run([BLENDER, "-b", "--factory-startup", "--python-exit-code", "1",
+                           "--python", str(BENCH / "bench_live_update.py"), "--",
+                           "--sizes", "1k", "--updates", "3", "--json", str(out)],
+                          capture_output=True, text=True, timeout=300, env=env)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    result = load(out)
+    assert [r["domain"] for r in result["results"]] == ["edge", "primal"]
+    for r in result["results"]:
+        assert r["vertices"] == 829 and r["updates"] == 3
+        times = [r[k] for k in ("bind_ms", "targets_ms", "solve_ms", "write_ms", "update_ms", "depsgraph_ms")]
+        assert finite(*times) and all(t >= 0 for t in times) and r["update_ms"] > 0
+    assert result["machine"]["blender"]
+    import live_update_report
+    assert "| spot_low_resolution.obj | 829 | edge |" in live_update_report.markdown(result)

@@ -1,0 +1,71 @@
+"""The smaller bench scripts on small inputs: the sample scenes, the pytest counts, the
+same-positions check, the live-settle replay and the instruction counts."""
+
+import shutil
+
+import numpy as np
+import pytest
+
+from _bench import finite, load, run
+
+
+def test_samples_one_scene_every_domain_and_lambda(tmp_path):
+    out = tmp_path / "samples.json"
+    run("bench_samples.py", "--scenes", "bar", "--json", out)
+    rows = load(out)["rows"]
+    assert {(r["domain"], r["lambda"]) for r in rows} == {
+        (d, lam) for d in ("edge", "primal") for lam in (0.0, 0.25, 0.5, 0.75, 1.0)}
+    for r in rows:
+        assert r["scene"] == "bar" and r["finite"] and (r["converged"] or r["warned"])
+        assert 0 < r["iterations"] <= 2000 and finite(r["distance_estimate"], r["bbox_ratio"])
+    import bench_samples
+    assert "| bar | 770 |" in bench_samples.markdown(load(out))
+
+
+def test_counts_kept_and_rendered(tmp_path):
+    counts = [{"test": "rigid", "mesh": "m.obj", "domain": "edge", "lambda": 1.0, "iterations": 45, "note": ""},
+              {"test": "lift", "mesh": "m.obj", "domain": "primal", "lambda": 0.0, "iterations": None, "note": ""}]
+    src, out = tmp_path / "counts.json", tmp_path / "kept.json"
+    src.write_text(__import__("json").dumps(counts))
+    run("counts_md.py", src, out)
+    kept = load(out)
+    assert kept["counts"] == counts and kept["machine"]["date"]
+    import counts_md
+    text = counts_md.markdown(kept)
+    assert "| m.obj | 45 |" in text and "| m.obj | not conv. |" in text
+
+
+def test_same_positions_agrees_with_itself_and_catches_a_change(tmp_path):
+    saved = tmp_path / "saved.npz"
+    run("same_positions.py", "save", saved, "--meshes", "spot_low_resolution.obj")
+    out = run("same_positions.py", "compare", saved, "--meshes", "spot_low_resolution.obj")
+    assert "largest relative difference" in out
+    moved = dict(np.load(saved))
+    key = sorted(moved)[0]
+    moved[key] = moved[key] * (1 + 1e-6)
+    np.savez(tmp_path / "moved.npz", **moved)
+    with pytest.raises(AssertionError, match="over the limit"):
+        run("same_positions.py", "compare", tmp_path / "moved.npz", "--meshes", "spot_low_resolution.obj")
+
+
+def test_live_settle_replay_on_spot(tmp_path):
+    out = tmp_path / "settle.json"
+    run("bench_live_settle.py", "--mesh", "spot", "--drag-ticks", "5", "--json", out)
+    (row,) = load(out)["rows"]
+    assert row["mesh"] == "spot" and row["vertices"] == 829 and row["drag"]["ticks"] == 5
+    s = row["settle"]
+    assert s["converged"] and s["ticks"] > 0 and s["iterations"] > 0
+    assert finite(s["core_ms"], s["wall_ms"], s["estimate"], s["distance"]) and s["distance"] < 2e-3
+
+
+@pytest.mark.skipif(shutil.which("valgrind") is None, reason="valgrind is not installed")
+def test_callgrind_handle_change_on_spot(tmp_path):
+    out = tmp_path / "callgrind.json"
+    run("callgrind_handle_change.py", "--meshes", "spot_low_resolution.obj", "--skip-final",
+        "--json", out, timeout=900)
+    (row,) = load(out)["rows"]
+    assert row["mesh"] == "spot_low_resolution.obj"
+    assert finite(row["fresh_M"], row["add_M"], row["remove_M"]) and row["fresh_M"] > 0
+    assert 0 < row["add_vs_fresh"] < 1 and 0 < row["remove_vs_fresh"] < 1
+    import callgrind_handle_change
+    assert "| spot_low_resolution.obj |" in callgrind_handle_change.markdown(load(out))
