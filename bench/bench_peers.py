@@ -38,7 +38,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 
-from edits import EDITS, TWIST_DEGREES, diagonal, mesh_path  # noqa: E402
+from edits import EDITS, TWIST_DEGREES, accelerations, diagonal, mesh_path  # noqa: E402
 from machine import machine_info  # noqa: E402
 from peers.problem import write_problem  # noqa: E402
 import peers_report  # noqa: E402
@@ -130,7 +130,7 @@ class Peers:
         if peer == "edgedeform":
             return [(f"edgedeform_{dom}_{lam:g}" + ("" if t == "default" else f"_t{t}"),
                      [sys.executable, "-m", "peers.run_edgedeform", folder, "--domain", dom,
-                      "--stiffness", lam, "--out", out] + common, "file",
+                      "--stiffness", lam, "--acceleration", a.acceleration, "--out", out] + common, "file",
                      {} if t == "default" else {"OMP_NUM_THREADS": t})
                     for t in a.threads.split(",") for dom, lam in OURS]
         if peer == "cgal":
@@ -203,6 +203,9 @@ def main(argv=None):
                    help="comma list of OpenMP thread counts to run edgedeform with; 'default' = "
                         "the package's own choice, e.g. 'default,1' (the peers are single-threaded)")
     p.add_argument("--timeout", type=float, default=3600, help="seconds per child")
+    p.add_argument("--acceleration", default="anderson",
+                   help="ours: the accelerated method measured beside the plain one (any the build "
+                        "accepts, e.g. newton)")
     p.add_argument("--build", default=str(ROOT / "build"))
     p.add_argument("--cgal-bin", default=None)
     p.add_argument("--venv", default=None, help="venv with libigl (default build/peers-venv)")
@@ -215,6 +218,8 @@ def main(argv=None):
 
     import edgedeform as ed
     from edgedeform.mesh_files import read_mesh
+    if args.acceleration not in accelerations(ed):
+        p.error(f"--acceleration {args.acceleration}: this build has {', '.join(accelerations(ed))}")
 
     if args.mesh:
         meshes = [(Path(m).name, Path(m)) for m in args.mesh]
@@ -246,7 +251,7 @@ def main(argv=None):
     cmd = "bench/bench_peers.py " + " ".join(argv if argv is not None else sys.argv[1:])
     result.update(machine=machine_info(), build_info=dict(ed.build_info()),
                   settings={k: getattr(args, k) for k in
-                            ("ref_iterations", "ref_tol", "eps", "repeat", "block")},
+                            ("ref_iterations", "ref_tol", "eps", "repeat", "block", "acceleration")},
                   skipped=peers.skipped,
                   commands=[c for c in result.get("commands", []) if c != cmd] + [cmd])
     work = Path(args.work or Path(args.build) / "peers-work")

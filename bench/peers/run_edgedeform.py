@@ -2,8 +2,9 @@
 
 Runs against whatever the built package offers: when Deformer.solve accepts an
 `acceleration` argument, the plain iteration is measured with acceleration="none" and the
-accelerated one ("anderson") is measured too (iterations to eps from cold solves, and the
-live update); otherwise only the plain iteration exists and is measured.
+accelerated one (--acceleration, "anderson" unless another method the build accepts is
+named, e.g. "newton") is measured too (iterations to eps from cold solves, and the live
+update); otherwise only the plain iteration exists and is measured.
 
     PYTHONPATH=build/python:bench /usr/bin/python3 -m peers.run_edgedeform PROBLEM \
         --domain edge --stiffness 0.5 --out result.json
@@ -56,7 +57,7 @@ class EdgeDeform:
         return r.positions
 
 
-def accelerated_eps(p, domain, stiffness, ref, eps, budget):
+def accelerated_eps(p, domain, stiffness, ref, eps, budget, method):
     """Fewest iterations of a cold accelerated solve that land within eps * diag of the
     reference, and that solve's wall time (median of 3 cold solves of that length).
 
@@ -65,12 +66,12 @@ def accelerated_eps(p, domain, stiffness, ref, eps, budget):
     k-th call's shape is that of a cold solve of k iterations). The earlier doubling and
     bisection over cold solves cost about four times as many iterations, which at 50k
     made this the longest part of the benchmark."""
-    m = EdgeDeform(p, domain, stiffness, "anderson")
+    m = EdgeDeform(p, domain, stiffness, method)
     m.precompute()
     found = None
     for k in range(1, budget + 1):
         x = m.d.solve(p["targets"], max_iterations=1, tolerance=0.0, warm_start=k > 1,
-                      acceleration="anderson").positions
+                      acceleration=method).positions
         if max_distance(x, ref) <= eps * p["diag"]:
             found = k
             break
@@ -80,7 +81,7 @@ def accelerated_eps(p, domain, stiffness, ref, eps, budget):
     def cold_solve_ms():
         t0 = time.perf_counter()
         m.d.solve(p["targets"], max_iterations=found, tolerance=0.0, warm_start=False,
-                  acceleration="anderson")
+                  acceleration=method)
         return (time.perf_counter() - t0) * 1e3
 
     return found, float(np.median([cold_solve_ms() for _ in range(3)]))
@@ -100,7 +101,9 @@ def live_update_ms(method, p, updates=20):
 def main():
     args = child_args(__doc__.split("\n\n")[0], [
         (("--domain",), {"choices": ["edge", "primal"], "required": True}),
-        (("--stiffness",), {"type": float, "required": True})]).parse_args()
+        (("--stiffness",), {"type": float, "required": True}),
+        (("--acceleration",), {"default": "anderson",
+                               "help": "the accelerated method measured beside the plain one"})]).parse_args()
     base_rss = max_rss_mb()
     p = load_problem(args.problem)
     has_acc = has_acceleration()
@@ -115,16 +118,16 @@ def main():
                threads=int(os.environ.get("OMP_NUM_THREADS") or info.get("threads") or 0),
                acceleration_available=has_acc, base_rss_mb=base_rss)
     if has_acc:
-        fast = EdgeDeform(p, args.domain, args.stiffness, "anderson")
+        fast = EdgeDeform(p, args.domain, args.stiffness, args.acceleration)
         fast.precompute()
         out["live_update_ms"] = live_update_ms(fast, p)
         if out["ref_iterations"]:
             k, ms = accelerated_eps(p, args.domain, args.stiffness, ref, args.eps,
-                                    out["ref_iterations"])
+                                    out["ref_iterations"], args.acceleration)
             out.update(acc_eps_iterations=k, acc_solve_to_eps_ms=ms)
     else:
         out["live_update_ms"] = live_update_ms(plain, p)
-    out["live_update_acceleration"] = "anderson" if has_acc else "none (not in this build)"
+    out["live_update_acceleration"] = args.acceleration if has_acc else "none (not in this build)"
     write_result(args.out, out)
 
 
