@@ -244,7 +244,8 @@ class EDGE_DEFORM_PT_solver(_SubPanel, bpy.types.Panel):
         layout = self.layout
         ob = target(self.layout, context)
         s = ob.edge_deform
-        layout.row().prop(s, "domain", expand=True)
+        # Side by side, or stacked in a narrow sidebar (else cut to "Vertex Gr…").
+        (layout.column() if narrow(context) else layout.row()).prop(s, "domain", expand=True)
         if s.domain == 'PRIMAL' and not s.stiffness_group and s.stiffness < 0.1:
             # Measured: the primal graph with lambda ~ 0 can drift and inflate (docs/benchmarks.md).
             col = layout.column(align=True)
