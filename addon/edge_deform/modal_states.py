@@ -12,6 +12,13 @@ class IllegalTransition(RuntimeError):
     pass
 
 
+def _next(table, tool, state, event):
+    try:
+        return table[state][event]
+    except KeyError:
+        raise IllegalTransition("%s: %s in state %s" % (tool, event.value, state.value))
+
+
 class Live(enum.Enum):
     SOLVING = "solving"        # the targets or settings changed, not settled yet: iterate
     AT_REST = "at rest"        # settled, or gave up settling: watch for changes only
@@ -46,10 +53,7 @@ _LIVE = {
 
 def live_next(state, event):
     """Live Deform's transition function."""
-    try:
-        return _LIVE[state][event]
-    except KeyError:
-        raise IllegalTransition("Live Deform: %s in state %s" % (event.value, state.value))
+    return _next(_LIVE, "Live Deform", state, event)
 
 
 class Grab(enum.Enum):
@@ -80,7 +84,4 @@ _GRAB = {
 
 def grab_next(state, event):
     """Grab Deform's transition function."""
-    try:
-        return _GRAB[state][event]
-    except KeyError:
-        raise IllegalTransition("Grab Deform: %s in state %s" % (event.value, state.value))
+    return _next(_GRAB, "Grab Deform", state, event)

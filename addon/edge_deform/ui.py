@@ -199,8 +199,9 @@ class EDGE_DEFORM_PT_groups(_SubPanel, bpy.types.Panel):
         ob = target(self.layout, context)
         s = ob.edge_deform
         for field, op, label in (("static_group", "edge_deform.set_static", "Static"),
-                                 ("roi_group", "edge_deform.set_roi", "Region (optional)")):
-            # The button beside the label: the group's name gets the whole row.
+                                 ("roi_group", "edge_deform.set_roi", "Region")):
+            # The button beside the label: the group's name gets the whole row. (An
+            # empty Region is the whole mesh; "Region (optional)" was cut at 170 px.)
             row = layout.row()
             row.label(text=label)
             row.operator(op, text="", icon='ADD')

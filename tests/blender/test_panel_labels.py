@@ -7,7 +7,7 @@ layout gives it.
 The room follows the sidebar's geometry measured on the panel screenshots
 (tests/blender/shoot_panel.py, Blender 3.4.1): panel content = sidebar width - 54 px; an
 icon takes 26 px before its text; a row shares its width among its items, an icon-only
-button taking 22 px; the handle list leaves 40 px to its side buttons. At 229 px the
+button taking 26 px; the handle list leaves 40 px to its side buttons. At 229 px the
 walk-through found "Add a handl…de, select, +", "Live Deform…, Esc cancels",
 "Handle → Handle…" and "EdgeDeform_St…"; at 170 px "Controll…", "Tole" and
 "Deform on Fra…": this model flags each of them on the old panel (before commit a515a04).
@@ -25,7 +25,7 @@ from helpers import add_group, bpy, edge_deform, plane_with_end_groups, run  # n
 CONTENT = 54      # sidebar width - panel content width
 ICON = 26         # an icon before a label's text (a button's: 21)
 ICON_IN_BUTTON = 21
-ICON_BUTTON = 22  # a button with an icon only
+ICON_BUTTON = 26  # a button with an icon only, with the gap before it
 PAD = 6           # text padding of a label (a button's: 4)
 BUTTON_PAD = 4
 LIST_SIDE = 40    # the handle list's column of buttons and its frame
