@@ -75,7 +75,7 @@ class ViewportText:
                 x += region.width
         lines = self.shown_lines()
         step = size * 1.5
-        top = context.region.height - 78 * scale   # under Blender's two lines of text
+        top = context.region.height - 98 * scale   # under Blender's two lines of text
         for i, text in enumerate(lines):
             is_note = self.note is not None and text == self.note and i == len(lines) - 1
             blf.color(font, 1.0, 0.8 if is_note else 1.0, 0.4 if is_note else 1.0, 1.0)
