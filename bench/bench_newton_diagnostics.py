@@ -203,6 +203,19 @@ def orthonormal_blocks(U):
     return (U @ T).tocsc(), T, n_blocks
 
 
+def coarse_operator_error(d, X, U, C, rng=None):
+    """max over random coarse vectors c of |U^T K (U c) - C c| / |C c|: whether the core's
+    coarse operator C is U^T K U for this U (K by products, as everywhere here)."""
+    rng = rng or np.random.default_rng(4)
+    nf = U.shape[0] // 3
+    worst = 0.0
+    for _ in range(RANDOM_CHECKS):
+        c = rng.standard_normal(U.shape[1])
+        KUc = to_flat(d._jacobian(X, to_points(U @ c, nf), True))
+        worst = max(worst, float(np.linalg.norm(U.T @ KUc - C @ c) / np.linalg.norm(C @ c)))
+    return worst
+
+
 class CoarseSpace:
     """The affine-patch space U of `patches` patches, orthonormalized (Q = U T), with the
     projections onto it in the Euclidean, A and K inner products."""
@@ -212,7 +225,9 @@ class CoarseSpace:
         self.Q, T, self.gram_blocks = orthonormal_blocks(U)
         self.columns, self.A3 = int(U.shape[1]), A3
         self.lu_A = spla.splu((self.Q.T @ (A3 @ self.Q)).tocsc())
-        QK = (T.T @ coo_matrix(d._coarse_operator_coo(X, patches)) @ T).toarray()  # the core's U^T K U
+        C = coo_matrix(d._coarse_operator_coo(X, patches))         # the core's U^T K U
+        self.operator_check = coarse_operator_error(d, X, U, C)
+        QK = (T.T @ C @ T).toarray()
         self.asymmetry = float(np.abs(QK - QK.T).max() / np.abs(QK).max())
         QK = 0.5 * (QK + QK.T)
         self.min_eigenvalue_rel = float(np.linalg.eigvalsh(QK)[0] / np.abs(QK).max())
@@ -239,7 +254,7 @@ def capture(space, planes, K_planes, patches, log):
     t0 = time.perf_counter()
     row = {"patches_requested": patches, "basis_columns": space.columns,
            "rank": int(space.Q.shape[1]), "gram_blocks": int(space.gram_blocks),
-           "coarse_asymmetry": space.asymmetry, "coarse_min_eigenvalue_rel": space.min_eigenvalue_rel}
+           "coarse_operator_check": space.operator_check, "coarse_asymmetry": space.asymmetry, "coarse_min_eigenvalue_rel": space.min_eigenvalue_rel}
     fractions = {"euclidean": [space.miss_euclidean(W) for W in planes],
                  "A": [space.miss_A(W) for W in planes],
                  "K": [space.miss_K(W, KW) for W, KW in zip(planes, K_planes)]}

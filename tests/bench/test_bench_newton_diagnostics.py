@@ -49,6 +49,7 @@ def test_json_rows_and_ranges(tmp_path):
     assert [c["patches_requested"] for c in row["capture"]] == [30, 100]
     for c in row["capture"]:
         assert 0 < c["rank"] <= c["basis_columns"]
+        assert c["coarse_operator_check"] < 1e-10      # the core's U^T K U is what we project with
         for norm in ("euclidean", "A", "K"):
             f = np.asarray(c["miss"][norm])
             assert len(f) == EIGENVALUES and np.isfinite(f).all()
