@@ -136,14 +136,10 @@ def _graph_steps(binding, inputs, what, fractions, owner):
     graph = "edge" if inputs.domain == 'EDGE' else "vertex"
     yield fractions[0], "%s: building the %s graph of %d triangles…" % (
         what, graph, len(binding.F))
-    t0 = time.perf_counter()
     binding.build(native.get(), inputs.domain)
-    build_ms = (time.perf_counter() - t0) * 1e3   # (not the redraws between the stages)
     yield fractions[1], "%s: factoring %s graph nodes…" % (
         what, _count(binding.deformer.n_nodes))
-    t0 = time.perf_counter()
-    binding.sync(native.get(), inputs, owner)
-    binding.bind_ms = build_ms + (time.perf_counter() - t0) * 1e3
+    binding.sync(native.get(), inputs, owner)   # (Binding.bind_ms: the compute time)
 
 
 def _binding_steps(mesh, inputs, X, digest, what, fractions, owner):

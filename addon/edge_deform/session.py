@@ -9,6 +9,7 @@ state changes only through its methods.
 
 import enum
 import hashlib
+import time
 
 import numpy as np
 
@@ -49,7 +50,7 @@ class Binding:
         self.X = X                  # rest positions (n,3) float64, object space
         self.F = F                  # loop triangles (m,3) int64
         self.rest_key = _digest(X)
-        self.bind_ms = 0.0          # the compute time of the last build and factoring
+        self._bind_ms = 0.0
         self._deformer = None
         self._domain = None
         self._inputs = None
@@ -75,6 +76,12 @@ class Binding:
     def constraints(self):
         return self._constraints
 
+    @property
+    def bind_ms(self):
+        """The compute time spent building and factoring this graph (not the wait around
+        it, which is what Bind reports)."""
+        return self._bind_ms
+
     def inputs_of(self, owner):
         """The inputs last synced for the object named `owner`, or None (another object's,
         Grab's temporary constraints, or none yet)."""
@@ -86,7 +93,9 @@ class Binding:
 
     def build(self, ed, domain):
         """A new Deformer (the graph) for `domain`; constraints and stiffness come next."""
+        t0 = time.perf_counter()
         self._deformer = ed.Deformer(self.X, self.F, domain=domain.lower())
+        self._bind_ms = (time.perf_counter() - t0) * 1e3
         self._domain = domain
         self._constraints, self._constraint_key, self._stiffness_key = (
             Constraints.NONE, None, None)
@@ -101,8 +110,10 @@ class Binding:
         """
         if self._deformer is None or self._domain != inputs.domain:
             self.build(ed, inputs.domain)
+        t0, factored = time.perf_counter(), False
         ckey = _digest(inputs.handles, inputs.static, inputs.roi)
         if self._constraints != Constraints.SETTINGS or ckey != self._constraint_key:
+            factored = True
             self._constraints, self._constraint_key = Constraints.NONE, None
             self._deformer.set_constraints(handles=inputs.handles, static=inputs.static,
                                            roi=inputs.roi)
@@ -111,9 +122,12 @@ class Binding:
         lam = inputs.stiffness
         skey = ("f", float(lam)) if np.isscalar(lam) else ("a", _digest(lam))
         if skey != self._stiffness_key:
+            factored = True
             self._stiffness_key = None
             self._deformer.set_stiffness(lam)
             self._stiffness_key = skey
+        if factored:
+            self._bind_ms += (time.perf_counter() - t0) * 1e3
         self._inputs, self._inputs_owner = inputs, owner
 
     def hold_grab(self, handles, static, roi):
