@@ -371,6 +371,8 @@ def main(argv=None):
                     result["rows"].append(run_cell(ed, V, F, name, e, domain, lam, args.budget,
                                                    methods, log))
                     partial.write_text(json.dumps(result, indent=1))
+    # the machine as the run ends (its load is what the run shared), and when it started
+    result["machine"] = dict(machine_info(), threads=machine["threads"], started=machine["date"])
     result["summary"] = summary(result["rows"], args.budget)
     print(json.dumps(result["summary"]))
     if args.koala:

@@ -80,15 +80,16 @@ def commands(result, script):
     cmds = result.get("commands") or ([result["command"]] if result.get("command") else [])
     if not cmds:
         return f"`{script}` (its arguments are not recorded in this JSON)"
-    return "; ".join(f"`{c}`" for c in cmds)
+    return "; ".join(f"`{c.strip()}`" for c in cmds)
 
 
 def header(result, name, script):
     m = result.get("machine", {})
     load = m.get("load_1min")
     load = f", 1-minute load {load:.1f}" if isinstance(load, (int, float)) and math.isfinite(load) else ""
+    threads = f", solver threads {m['threads']}" if "threads" in m else ""
     return (f"*Date {m.get('date', 'not recorded')}; machine {m.get('cpu', 'not recorded')}, "
-            f"{m.get('cores', '?')} cores{load}. Data `bench/results/{name}`. "
+            f"{m.get('cores', '?')} cores{load}{threads}. Data `bench/results/{name}`. "
             f"Command: {commands(result, script)}.*")
 
 
