@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <queue>
 #include <utility>
 
@@ -203,7 +202,7 @@ using Block = Eigen::Matrix<double, 12, 12>;
 using PatchPair = std::pair<int, int>;
 // Terms per chunk of the coarse assembly: chunks are fixed, so partial sums (merged in chunk
 // order) do not depend on how many threads ran them.
-constexpr int kCoarseChunk = 4096;
+constexpr int kCoarseChunk = 16384;
 
 // Per term: the free vertices its fit reads, with the covariance vector m_w that a unit
 // move of each carries (dS = m_w dx_w^T).
@@ -253,15 +252,42 @@ SparseMatrix coarse_operator(const CoarseBasis& b, const SparseMatrix& coarse_A,
     for (int k = 0; k < H.blocks(); ++k) term_block[static_cast<size_t>(cursor[static_cast<size_t>(H.block_term(k))]++)] = k;
   }
 
+  // The patch pairs a term couples (its right-side patches x its fit's input patches): a
+  // slot per pair, found through a P x P table.
+  const int P = b.n_patches;
+  std::vector<int> slot_of(static_cast<size_t>(P) * static_cast<size_t>(P), -1);
+  std::vector<PatchPair> slots;
+  {
+    std::vector<int> vertex, in_p, out_p;
+    std::vector<Eigen::Vector3d> m;
+    for (int t = 0; t < T; ++t) {
+      if (!(sys.stencil.rest_norm(t) > 0.0)) continue;
+      term_inputs(sys, t, vertex, m);
+      in_p.clear();
+      out_p.clear();
+      for (int w : vertex) in_p.push_back(b.patch[static_cast<size_t>(w)]);
+      for (int k = term_offset[static_cast<size_t>(t)]; k < term_offset[static_cast<size_t>(t) + 1]; ++k)
+        out_p.push_back(b.patch[static_cast<size_t>(block_row[static_cast<size_t>(term_block[static_cast<size_t>(k)])])]);
+      for (int p : out_p)
+        for (int q : in_p) {
+          int& s = slot_of[static_cast<size_t>(p) * static_cast<size_t>(P) + static_cast<size_t>(q)];
+          if (s < 0) {
+            s = static_cast<int>(slots.size());
+            slots.emplace_back(p, q);
+          }
+        }
+    }
+  }
   const int n_chunks = (T + kCoarseChunk - 1) / kCoarseChunk;
-  std::vector<std::map<PatchPair, Block>> partial(static_cast<size_t>(n_chunks));
+  std::vector<std::vector<Block>> partial(static_cast<size_t>(n_chunks));
   parallel_for(n_chunks, 1, 2, [&](int chunk_begin, int chunk_end) {
     std::vector<int> vertex;
     std::vector<Eigen::Vector3d> m;
     std::vector<std::pair<int, Eigen::Matrix<double, 4, 12>>> in_patch;   // U restricted, through the fit's response
     std::vector<std::pair<int, Eigen::Matrix<double, 12, 4>>> out_patch;  // U^T of the right side's response
     for (int chunk = chunk_begin; chunk < chunk_end; ++chunk) {
-      std::map<PatchPair, Block>& sum = partial[static_cast<size_t>(chunk)];
+      std::vector<Block>& sum = partial[static_cast<size_t>(chunk)];
+      sum.assign(slots.size(), Block::Zero());
       const int t_end = std::min(T, (chunk + 1) * kCoarseChunk);
       for (int t = chunk * kCoarseChunk; t < t_end; ++t) {
         if (!(sys.stencil.rest_norm(t) > 0.0)) continue;
@@ -303,29 +329,22 @@ SparseMatrix coarse_operator(const CoarseBasis& b, const SparseMatrix& coarse_A,
             out_patch[slot].second.middleRows<3>(3 * f) += b.value[static_cast<size_t>(r)](f) * O;
         }
         for (const auto& [p, out] : out_patch)
-          for (const auto& [q, in] : in_patch) {
-            auto [entry, fresh] = sum.try_emplace(PatchPair(p, q));
-            if (fresh) entry->second.setZero();
-            entry->second.noalias() -= out * in;
-          }
+          for (const auto& [q, in] : in_patch)
+            sum[static_cast<size_t>(slot_of[static_cast<size_t>(p) * static_cast<size_t>(P) + static_cast<size_t>(q)])].noalias() -= out * in;
       }
     }
   });
-  std::map<PatchPair, Block> total;
-  for (const auto& chunk : partial)
-    for (const auto& [key, block] : chunk) {
-      auto [entry, fresh] = total.try_emplace(key, block);
-      if (!fresh) entry->second += block;
-    }
   std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(total.size() * 144 + static_cast<size_t>(coarse_A.nonZeros()));
+  entries.reserve(slots.size() * 144 + static_cast<size_t>(coarse_A.nonZeros()));
   for (int col = 0; col < coarse_A.outerSize(); ++col)
     for (SparseMatrix::InnerIterator it(coarse_A, col); it; ++it) entries.emplace_back(static_cast<int>(it.row()), col, it.value());
-  for (const auto& [key, block] : total) {
-    const auto p = static_cast<size_t>(key.first), q = static_cast<size_t>(key.second);
+  for (size_t s = 0; s < slots.size(); ++s) {
+    Block total = Block::Zero();
+    for (const auto& chunk : partial) total += chunk[s];  // chunk order: thread-count free
+    const auto p = static_cast<size_t>(slots[s].first), q = static_cast<size_t>(slots[s].second);
     for (int i = 0; i < 3 * b.functions[p]; ++i)
       for (int j = 0; j < 3 * b.functions[q]; ++j)
-        if (block(i, j) != 0.0) entries.emplace_back(b.offset[p] + i, b.offset[q] + j, block(i, j));
+        entries.emplace_back(b.offset[p] + i, b.offset[q] + j, total(i, j));  // zeros too: a fixed pattern
   }
   SparseMatrix C(b.dimension(), b.dimension());
   C.setFromTriplets(entries.begin(), entries.end());
@@ -334,19 +353,25 @@ SparseMatrix coarse_operator(const CoarseBasis& b, const SparseMatrix& coarse_A,
 
 struct CoarseCorrection::Factor {
   Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu;
+  std::vector<int> outer, inner;  // the analysed pattern
 };
 
 bool CoarseCorrection::factor(const CoarseBasis& basis, const SparseMatrix& coarse) {
   ready_ = false;
+  if (basis.dimension() == 0 || coarse.rows() != basis.dimension()) return false;
+  SparseMatrix C = coarse;
+  C.makeCompressed();
+  const std::vector<int> outer(C.outerIndexPtr(), C.outerIndexPtr() + C.outerSize() + 1);
+  const std::vector<int> inner(C.innerIndexPtr(), C.innerIndexPtr() + C.nonZeros());
+  if (!factor_ || basis_ != &basis || factor_->outer != outer || factor_->inner != inner) {
+    factor_ = std::make_shared<Factor>();  // a new pattern: a new ordering and analysis
+    factor_->lu.analyzePattern(C);
+    factor_->outer = outer;
+    factor_->inner = inner;
+  }
   basis_ = &basis;
-  if (basis.dimension() == 0) return false;
-  auto f = std::make_shared<Factor>();
-  f->lu.analyzePattern(coarse);
-  f->lu.factorize(coarse);
-  if (f->lu.info() != Eigen::Success) return false;
-  const double log_det = f->lu.logAbsDeterminant();
-  if (!std::isfinite(log_det)) return false;
-  factor_ = std::move(f);
+  factor_->lu.factorize(C);
+  if (factor_->lu.info() != Eigen::Success || !std::isfinite(factor_->lu.logAbsDeterminant())) return false;
   ready_ = true;
   return true;
 }

@@ -114,6 +114,7 @@ void Deformer::set_constraints(const ConstraintSets& sets) {
   iter_.positions_valid = false;  // the free vertices changed
   coarse_basis_.reset();
   coarse_stiffness_valid_ = false;
+  coarse_correction_ = CoarseCorrection();
 }
 
 void Deformer::make_base(std::shared_ptr<const ConstrainedSystem> whole) {

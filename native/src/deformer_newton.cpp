@@ -21,6 +21,7 @@ const CoarseBasis* Deformer::coarse_basis(int patches) {
     coarse_basis_ = std::make_shared<const CoarseBasis>(build_coarse_basis(*system_, rest_, topology_.edges, patches));
     coarse_basis_patches_ = patches;
     coarse_stiffness_valid_ = false;
+    coarse_correction_ = CoarseCorrection();
   }
   return coarse_basis_->dimension() > 0 ? coarse_basis_.get() : nullptr;
 }
@@ -81,6 +82,7 @@ void Deformer::iterate_newton(const SolveOptions& options, const Eigen::MatrixXd
   settings.coarse = coarse_basis(options.coarse_patches);
   if (settings.coarse) {
     settings.coarse_stiffness = &coarse_stiffness_matrix();
+    settings.coarse_correction = &coarse_correction_;
     result.coarse_dimension = settings.coarse->dimension();
   }
   result.energies.reserve(static_cast<size_t>(options.max_iterations));

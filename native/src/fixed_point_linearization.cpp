@@ -3,8 +3,12 @@
 namespace edgedeform {
 
 FixedPointLinearization::FixedPointLinearization(const ConstrainedSystem& system, const AssembledSystem& assembled,
-                                                 const LocalFit& fit, const RowMatrixX3d& node_positions)
-    : system_(system), assembled_(assembled), fit_(fit), linearization_(linearize_fit(system.stencil, node_positions, fit)) {
+                                                 const LocalFit& fit, const RowMatrixX3d& node_positions,
+                                                 bool positive_model)
+    : system_(system),
+      assembled_(assembled),
+      fit_(fit),
+      linearization_(linearize_fit(system.stencil, node_positions, fit, positive_model)) {
   padded_.setZero(system.n_free() + system.n_fixed(), 3);  // fixed vertices never move
 }
 

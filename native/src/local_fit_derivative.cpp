@@ -1,5 +1,6 @@
 #include "edgedeform/local_fit_derivative.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include "edgedeform/parallel.h"
@@ -25,7 +26,46 @@ Eigen::Matrix3d covariance_change(const NodeStencil& st, const RowMatrixX3d& dp,
 
 }  // namespace
 
-FitLinearization linearize_fit(const NodeStencil& st, const RowMatrixX3d& p, const LocalFit& fit) {
+namespace {
+
+// The generalized eigenvalues of H against W = R W0 R^T raised to at least 1, inverted:
+// (W^1/2 max(W^-1/2 H W^-1/2, I) W^1/2)^-1, computed in the rest frame (W0 = (tr C0) I - C0).
+// False when W0 is singular (collinear arcs), where the caller inverts H as it is.
+bool raised_inverse(const Eigen::Matrix3d& W0, const Eigen::Matrix3d& R, const Eigen::Matrix3d& H, Eigen::Matrix3d& inverse) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> w;
+  w.computeDirect(W0);
+  const Eigen::Vector3d wv = w.eigenvalues();
+  if (!(wv(0) > kDegenerateRatio * wv(2))) return false;
+  const Eigen::Matrix3d inv_root = w.eigenvectors() * wv.cwiseSqrt().cwiseInverse().asDiagonal() * w.eigenvectors().transpose();
+  const Eigen::Matrix3d frame = R * inv_root;  // W^-1/2 = R W0^-1/2 R^T; B = W0^-1/2 R^T H R W0^-1/2
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> b;
+  b.computeDirect(frame.transpose() * H * frame);
+  const Eigen::Vector3d raised = b.eigenvalues().cwiseMax(1.0).cwiseInverse();
+  const Eigen::Matrix3d Q = frame * b.eigenvectors();
+  inverse = Q * raised.asDiagonal() * Q.transpose();
+  return true;
+}
+
+// H^-1 where H is clearly positive definite (almost every term), else the pseudo-inverse
+// without the directions whose eigenvalue is below kDegenerateRatio of the largest.
+Eigen::Matrix3d clamped_inverse(const Eigen::Matrix3d& H) {
+  const Eigen::LLT<Eigen::Matrix3d> llt(H);
+  if (llt.info() == Eigen::Success) {
+    const Eigen::Vector3d pivots = llt.matrixLLT().diagonal().cwiseAbs2();
+    if (pivots.minCoeff() > 1e3 * kDegenerateRatio * pivots.maxCoeff()) return llt.solve(Eigen::Matrix3d::Identity());
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(H);
+  const Eigen::Vector3d h = eig.eigenvalues();
+  const double floor = kDegenerateRatio * h.cwiseAbs().maxCoeff();
+  Eigen::Vector3d inverse = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k)
+    if (h(k) > floor) inverse(k) = 1.0 / h(k);
+  return eig.eigenvectors() * inverse.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+}  // namespace
+
+FitLinearization linearize_fit(const NodeStencil& st, const RowMatrixX3d& p, const LocalFit& fit, bool positive_model) {
   const int T = st.n_terms;
   FitLinearization lin;
   lin.omega_map.assign(static_cast<size_t>(T), Eigen::Matrix3d::Zero());
@@ -39,13 +79,16 @@ FitLinearization linearize_fit(const NodeStencil& st, const RowMatrixX3d& p, con
       const Eigen::Matrix3d N = R * S;
       const Eigen::Matrix3d sym = 0.5 * (N + N.transpose());
       const Eigen::Matrix3d hessian = sym.trace() * Eigen::Matrix3d::Identity() - sym;
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(hessian);
-      const Eigen::Vector3d h = eig.eigenvalues();
-      const double floor = kDegenerateRatio * h.cwiseAbs().maxCoeff();
-      Eigen::Vector3d inverse = Eigen::Vector3d::Zero();
-      for (int k = 0; k < 3; ++k)
-        if (h(k) > floor) inverse(k) = 1.0 / h(k);
-      lin.omega_map[static_cast<size_t>(t)] = -(eig.eigenvectors() * inverse.asDiagonal() * eig.eigenvectors().transpose());
+      Eigen::Matrix3d inverse;
+      bool raised = false;
+      if (positive_model) {
+        Eigen::Matrix3d C0 = Eigen::Matrix3d::Zero();
+        for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a)
+          C0.noalias() += st.weight[static_cast<size_t>(a)] * st.rest_edge.row(a).transpose() * st.rest_edge.row(a);
+        raised = raised_inverse(C0.trace() * Eigen::Matrix3d::Identity() - C0, R, hessian, inverse);
+      }
+      if (!raised) inverse = clamped_inverse(hessian);
+      lin.omega_map[static_cast<size_t>(t)] = -inverse;
       const double raw_scale = N.trace() / rest_norm;
       if (raw_scale > kMinScale && raw_scale < kMaxScale) lin.scale_gain(t) = 1.0 / rest_norm;
     }

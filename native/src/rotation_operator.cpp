@@ -123,14 +123,6 @@ void RotationOperator::apply(const std::vector<Eigen::Matrix3d>& rotation, const
   });
 }
 
-void RotationOperator::block_vectors(int block, double s, Eigen::Vector3d& g, Eigen::Vector3d& k) const {
-  const auto t = static_cast<size_t>(term_[static_cast<size_t>(block)]);
-  const Eigen::Map<const Eigen::Vector3d> h_R(&coef_[6 * static_cast<size_t>(block)]), h_T(&coef_[6 * static_cast<size_t>(block) + 3]);
-  const double smooth = 1.0 - lambda_[t] - similar_[t];
-  g = (lambda_[t] + similar_[t] * s) * h_R + smooth * s * h_T;
-  k = similar_[t] * h_R + smooth * h_T;
-}
-
 void RotationOperator::apply_derivative(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
                                         const RowMatrixX3d& omega, const Eigen::VectorXd& dscale,
                                         Eigen::MatrixXd& dy) const {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "edgedeform/errors.h"
+#include "edgedeform/serial_blas.h"
 #include "edgedeform/serial_openmp.h"
 #include "edgedeform/supernodal_solve.h"
 
@@ -119,6 +120,7 @@ void SparseCholesky::factorize(const SparseMatrix& A, const std::vector<int>& or
 
 void SparseCholesky::factorize(const SparseMatrix& A, const std::vector<int>& order, Ordering ordering) {
   const SerialOpenMP serial;  // CHOLMOD's fixed team of 4 (serial_openmp.h)
+  const SerialBlas serial_blas;  // the same factor on any number of threads (serial_blas.h)
   Impl& m = *impl_;
   m.factored = false;
   cholmod_sparse view = Impl::view(A);

@@ -220,6 +220,7 @@ class Deformer {
   int coarse_basis_patches_ = -1;
   SparseMatrix coarse_stiffness_;
   bool coarse_stiffness_valid_ = false;
+  CoarseCorrection coarse_correction_;  // its symbolic analysis lasts as long as the basis
   // The bindings release the GIL: two Python threads sharing a Deformer take turns here.
   mutable std::mutex mutex_;
 };

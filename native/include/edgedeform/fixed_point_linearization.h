@@ -14,8 +14,10 @@ class FixedPointLinearization {
  public:
   // `fit` is the local fit at node positions `node_positions` (stencil_node_positions of
   // the point); the system, its operators and the fit must outlive this object.
+  // `positive_model`: the per-node positive semi-definite model of K (linearize_fit), only
+  // for lambda = 1 on every term.
   FixedPointLinearization(const ConstrainedSystem& system, const AssembledSystem& assembled, const LocalFit& fit,
-                          const RowMatrixX3d& node_positions);
+                          const RowMatrixX3d& node_positions, bool positive_model = false);
 
   // out = D dx.
   void rhs_derivative(const Eigen::MatrixXd& dx, Eigen::MatrixXd& out) const;

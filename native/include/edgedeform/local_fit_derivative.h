@@ -10,6 +10,10 @@
 // takes it from a tie-breaker. The scale s_t = tr(N) / rest_norm moves by tr(R dS) /
 // rest_norm (the rotation's own change drops out: tr([omega]x N) = 0 for symmetric N), and
 // not at all where it is clamped (local_step.h's kMinScale, kMaxScale).
+// Not modelled: a term whose weighted arcs are collinear (its weights clamped to 0 by right
+// or obtuse angles) takes its spin about the main axis from the unweighted arcs
+// (local_step.cpp); that spin's change is left out, so J_G is inexact at such terms and
+// Newton's steps converge linearly there (the fixed point is unchanged).
 #pragma once
 
 #include <vector>
@@ -26,7 +30,16 @@ struct FitLinearization {
 };
 
 // Linearizes `fit` (fit_local's result at node positions p) with the same stencil.
-FitLinearization linearize_fit(const NodeStencil& stencil, const RowMatrixX3d& node_positions, const LocalFit& fit);
+//
+// With `positive_model` (only meaningful where lambda = 1 on every term, where K is the
+// energy's Hessian): each term's rotation response is limited so that its own Hessian
+// sum_a w_a |de_a|^2 - u^T H^-1 u (u = sum_a w_a [R e0_a]x de_a) stays positive
+// semi-definite. u ranges over an ellipsoid of matrix W = R ((tr C0) I - C0) R^T,
+// C0 = sum_a w_a e0_a e0_a^T the rest covariance, so the term is convex iff H >= W; the
+// model raises H's generalized eigenvalues against W to at least 1 (a per-node projection,
+// as projected Newton does per element). At rest H = W exactly: rigid rotations cost nothing.
+FitLinearization linearize_fit(const NodeStencil& stencil, const RowMatrixX3d& node_positions, const LocalFit& fit,
+                               bool positive_model = false);
 
 // A term's response to a change dS of its covariance: omega (rotation) and the scale change.
 inline void fit_response(const Eigen::Matrix3d& R, const Eigen::Matrix3d& omega_map, double scale_gain,

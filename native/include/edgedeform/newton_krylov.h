@@ -43,6 +43,7 @@ struct NewtonSettings {
   int plain_steps_first = 2;   // plain steps before the first Newton step of a solve
   const CoarseBasis* coarse = nullptr;     // none: the one-level preconditioner A^-1
   const SparseMatrix* coarse_stiffness = nullptr;  // U^T A U of that basis
+  CoarseCorrection* coarse_correction = nullptr;   // kept by the caller: its analysis is reused
 };
 
 // The iterate the strategy continues: y, the fit at y (when fitted), E(y).
