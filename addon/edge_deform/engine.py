@@ -5,6 +5,7 @@ shape, the output and the controllers' rest transforms). Mesh data is read only 
 mesh_arrays; settings and transforms are read as attributes.
 """
 
+import re
 from dataclasses import dataclass
 from typing import List
 
@@ -172,12 +173,25 @@ def offered_accelerations():
     return list(_offered)
 
 
+def default_acceleration():
+    """The package's own default acceleration (read from Deformer.solve's signature), so
+    that Solve with the add-on's defaults equals the Python API's solve; "anderson" when
+    the signature does not say."""
+    offered = offered_accelerations()
+    try:
+        doc = native.get().Deformer.solve.__doc__ or ""
+    except ImportError:
+        doc = ""
+    match = re.search(r"acceleration: str = '(\w+)'", doc)
+    name = match.group(1) if match else "anderson"
+    return name if name in offered else offered[0]
+
+
 def acceleration(settings):
     """The package's name for the settings' acceleration (an Acceleration stored in a file
-    from a build that had a method this one lacks reads as the fastest offered)."""
-    offered = offered_accelerations()
+    from a build that had a method this one lacks reads as the package's default)."""
     name = dict(ACCELERATIONS).get(settings.acceleration)
-    return name if name in offered else offered[0]
+    return name if name in offered_accelerations() else default_acceleration()
 
 
 def solve_report(result, waited_s, iterations):

@@ -14,7 +14,7 @@ IDENTITY = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0),
 # listed only when this build of the package solves with it (engine.offered_accelerations).
 _ACCELERATION_ITEMS = {
     "newton": ('NEWTON', "Newton", "Newton steps on the same shape: fewest passes, each "
-               "dearer (recommended when offered)", 2),
+               "dearer", 2),
     "anderson": ('ANDERSON', "Fast", "Reaches the same shape in fewer passes", 0),
     "none": ('NONE', "Plain", "One plain pass at a time: slower, for comparison", 1)}
 
@@ -30,8 +30,8 @@ _acceleration_items.cache = []
 
 
 def _default_acceleration():
-    """The fastest method offered (the package's own default order)."""
-    return _ACCELERATION_ITEMS[engine.offered_accelerations()[0]][3]
+    """The package's own default (so the add-on's Solve equals the API's solve)."""
+    return _ACCELERATION_ITEMS[engine.default_acceleration()][3]
 
 
 class EdgeDeformHandle(bpy.types.PropertyGroup):

@@ -368,8 +368,42 @@ def test_modal_tools_stop_settling_at_the_limit():
             else "distance unknown" in text), text
 
 
+def test_acceleration_choices_follow_the_package():
+    """The Acceleration setting lists what this build of the package solves with (Newton
+    only when it has it), defaults to the package's own default, and each choice solves."""
+    from edge_deform import engine
+    ob, V, F, handle, static, ctrl = plane_setup()
+    s = ob.edge_deform
+    d = ed.Deformer(V.astype(float), F)
+    d.set_constraints(handles=handle)
+    names = []
+    for name in ("newton", "anderson", "none"):
+        try:
+            d.solve(V[handle].astype(float), max_iterations=1, acceleration=name)
+            names.append(name)
+        except ValueError:
+            pass
+    assert engine.offered_accelerations() == names, (engine.offered_accelerations(), names)
+    assert engine.acceleration(s) == engine.default_acceleration()
+    items = []
+    for item, name in engine.ACCELERATIONS:   # (a dynamic enum lists items only to a UI)
+        try:
+            s.acceleration = item
+            items.append(item)
+        except TypeError:
+            pass
+        assert (item in items) == (name in names), (item, names)
+    ctrl.location.z += 0.3
+    bpy.context.view_layer.update()
+    for item in items:
+        s.acceleration = item
+        assert bpy.ops.edge_deform.solve() == {'FINISHED'}
+        assert engine.acceleration(s) == dict(engine.ACCELERATIONS)[item]
+
+
 if __name__ == "__main__":
     run([test_solve_matches_api, test_output_mesh_keeps_rest, test_settings_change_rebinds,
          test_stiffness_group, test_quads_and_ngons, test_object_transform_and_warm_start,
          test_topology_change_never_wrong, test_bad_input_cancels, test_apply_and_unbind,
-         test_solve_names_a_graph_rebuild, test_modal_tools_stop_settling_at_the_limit])
+         test_solve_names_a_graph_rebuild, test_modal_tools_stop_settling_at_the_limit,
+         test_acceleration_choices_follow_the_package])

@@ -54,12 +54,12 @@ def test_manual_states_the_code_defaults():
     checked = []
     for field, text in stated.items():
         if field == "acceleration":
-            # "the first offered": the default is the fastest method this package has.
-            assert "first offered" in text, text
+            # "the package's default": Solve equals the API's solve with its defaults.
+            assert "package's default" in text, text
             ob = bpy.data.objects.new("defaults", None)
             try:
                 first = dict((b, a) for a, b in engine.ACCELERATIONS)[
-                    engine.offered_accelerations()[0]]
+                    engine.default_acceleration()]
                 mesh = bpy.data.meshes.new("defaults")
                 holder = bpy.data.objects.new("defaults_mesh", mesh)
                 assert holder.edge_deform.acceleration == first, (
