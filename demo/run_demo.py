@@ -88,7 +88,7 @@ def main(argv):
     if not scenes:
         raise SystemExit("run_demo: no sample named %s" % args.samples)
     check = None if args.no_addon_check else addon_check.AddonCheck(
-        args.samples_dir, out, args.max_iterations, args.tolerance)
+        args.samples_dir, out, args.module_path)
 
     doc = {"settings": {"max_iterations": args.max_iterations, "tolerance": args.tolerance,
                         "cell": [width, height], "warm_start": False,
@@ -122,8 +122,7 @@ def main(argv):
                   "cells": [{k: v for k, v in c.items() if k != "positions"} for c in cells],
                   "painted_regions": painted}
         if check is not None:
-            by_key = {c["key"]: c for c in cells}
-            sample["addon_check"] = check.run(scene_def, by_key["painted_edge"]["positions"])
+            sample["addon_check"] = check.run(scene_def, ed, V, F, setup)
             print("  add-on check:", sample["addon_check"])
         doc["samples"].append(sample)
         print("  sheet %s (%.1f s)" % (sheet_path, time.perf_counter() - t0))

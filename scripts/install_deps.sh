@@ -13,7 +13,8 @@ packages=(
   python3-numpy python3-scipy python3-pytest
   libgtest-dev googletest
   # libegl1: Blender 4.x aborts at start (even with -b) without libEGL.so.1.
-  blender libegl1 xvfb xauth
+  # x11-apps (xwd): the window tests' screenshots where Blender's own come out black (4.3).
+  blender libegl1 xvfb xauth x11-apps
   # libclang-rt-dev: the sanitizer/fuzzer runtimes of Debian's default clang (14 on 12,
   # 19 on 13), not a fixed version that exists on one release only.
   clang libclang-rt-dev

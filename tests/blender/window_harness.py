@@ -50,11 +50,15 @@ def tap(kind, at=None, **mods):
 
 
 def screenshot(name):
+    """A real picture or an exception (screen_capture: Blender 4.3 + llvmpipe saves black)."""
+    import screen_capture
     os.makedirs(OUT, exist_ok=True)
     path = os.path.join(OUT, name)
-    with override():
-        bpy.ops.screen.screenshot(filepath=path)
-    print("screenshot:", path)
+
+    def take():
+        with override():
+            bpy.ops.screen.screenshot(filepath=path)
+    print("screenshot:", path, "-", screen_capture.save(path, take))
 
 
 def until(predicate, seconds=10.0):
