@@ -2,6 +2,7 @@
 #include <pybind11/pybind11.h>
 
 #include "edgedeform/build_info.h"
+#include "edgedeform/serial_blas.h"
 #include "edgedeform/errors.h"
 
 namespace py = pybind11;
@@ -22,6 +23,9 @@ PYBIND11_MODULE(_core, m) {
     info["threads"] = edgedeform::max_threads();
     info["eigen"] = edgedeform::eigen_version();
     info["compiler"] = edgedeform::compiler();
+    // Whether factorizations run their BLAS on one thread (serial_blas.h): the condition for
+    // the same positions on any number of threads.
+    info["serial_blas_factor"] = edgedeform::SerialBlas::available();
     return info;
   });
   edgedeform::bindings::bind_deformer(m);

@@ -308,8 +308,10 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
 
   if (options.acceleration == Acceleration::Newton)
     iterate_newton(options, c, x_local, fit, result);
-  else
+  else {
+    it.newton_valid = false;  // Newton's state no longer describes the iterate
     iterate(options, c, x_local, fit, result);
+  }
 
   for (int k = 0; k < nf; ++k) result.positions.row(sys.free_vertices[static_cast<size_t>(k)]) = it.y.row(k);
   it.positions_valid = true;

@@ -63,8 +63,8 @@ void Deformer::iterate_newton(const SolveOptions& options, const Eigen::MatrixXd
       result.solve_ms += ms_since(t0);
     }
     const SparseMatrix& A() const override { return d.assembled_->A; }
-    std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit) override {
-      return std::make_unique<FixedPointLinearization>(*d.system_, *d.assembled_, fit, d.node_positions_);
+    std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit, bool positive_model) override {
+      return std::make_unique<FixedPointLinearization>(*d.system_, *d.assembled_, fit, d.node_positions_, positive_model);
     }
     bool interrupt_requested() override { return options.interrupt_requested && options.interrupt_requested(); }
   } problem(*this, c, x_local, result, options);
@@ -76,9 +76,11 @@ void Deformer::iterate_newton(const SolveOptions& options, const Eigen::MatrixXd
   settings.diag = diag_;
   settings.descent = assembled_->term_lambda.size() > 0 && assembled_->term_lambda.minCoeff() >= 1.0;
   settings.krylov_iterations = options.krylov_iterations;
-  // A solve that continues a fitted iterate (live editing standing still) needs no plain
-  // steps first; a cold start or moved targets take the naive step and one plain step.
-  settings.plain_steps_first = it.continuable ? 0 : 2;
+  // A solve that continues a fitted iterate (live editing standing still) goes on with the
+  // last call's Newton state; a cold start or moved targets start afresh (the naive or
+  // previous step, then a plain step).
+  if (!it.continuable || !it.newton_valid) it.newton.reset(2, settings.descent);
+  it.newton_valid = true;
   settings.coarse = coarse_basis(options.coarse_patches);
   if (settings.coarse) {
     settings.coarse_stiffness = &coarse_stiffness_matrix();
@@ -91,7 +93,7 @@ void Deformer::iterate_newton(const SolveOptions& options, const Eigen::MatrixXd
   it.anderson.reset();
   it.monitor.reset();
   it.y_accelerated = false;
-  newton_krylov_solve(problem, settings, IterationPoint{it.y, fit, it.energy, it.continuable}, result);
+  newton_krylov_solve(problem, settings, IterationPoint{it.y, fit, it.energy, it.continuable, it.newton}, result);
 }
 
 const std::vector<int>& Deformer::free_vertices() const {

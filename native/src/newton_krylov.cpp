@@ -34,6 +34,9 @@ constexpr double kNearSteps = 10.0;
 constexpr double kVerifyForcing = 1e-3;
 constexpr double kArmijo = 1e-4;
 constexpr int kBacktracks = 6;
+// lambda = 1: the positive model gives way to the true Hessian once its full step is below
+// this many tolerances.
+constexpr double kModelToNewton = 10.0;
 // Plain steps after a failed line search before Newton is tried again.
 constexpr int kFallbackSteps = 3;
 // The Levenberg-Marquardt shift (relative to A): 0 at first (measured on the Spot lift,
@@ -80,18 +83,18 @@ void newton_krylov_solve(FixedPointProblem& problem, const NewtonSettings& s, It
   double best_merit = std::numeric_limits<double>::infinity();
   LocalFit trial_fit;
   bool have_g = false;  // g, rhs already hold G(y): a line-search trial that was kept
-  int plain_left = s.plain_steps_first;
-  double previous_b_norm = -1.0, previous_eta = kForcingMax;
-  double last_exact_step = std::numeric_limits<double>::infinity();  // |delta|_inf / diag, unshifted full steps
-  // Levenberg-Marquardt: the step solves (K + shift A) delta = A F. Far from the solution K
-  // is indefinite along the soft rotation fields (compressed neighbourhoods) and full Newton
-  // steps overshoot into other rotation branches; the shift blends the step toward the
-  // plain local/global step (shift -> infinity) and relaxes to 0, Newton's own step, as
-  // steps succeed. Only unshifted steps estimate the distance to the fixed point.
-  double shift = 0.0;
+  // What the strategy carries from one call to the next (a warm solve with still targets
+  // continues it): see NewtonMemory.
+  NewtonMemory& memory = point.memory;
+  int& plain_left = memory.plain_steps_left;
+  double& previous_b_norm = memory.previous_b_norm;
+  double& previous_eta = memory.previous_eta;
+  double& last_exact_step = memory.last_exact_step;
+  double& shift = memory.shift;
+  bool& near_minimum = memory.near_minimum;
+  int& coarse_age = memory.coarse_age;
+  double& coarse_shift = memory.coarse_shift;
   CoarseCorrection* coarse = s.coarse_correction;
-  int coarse_age = kCoarseLag;
-  double coarse_shift = -1.0;
   result.distance_estimate = std::numeric_limits<double>::infinity();
 
   auto stop_if_asked = [&] {
@@ -122,7 +125,15 @@ void newton_krylov_solve(FixedPointProblem& problem, const NewtonSettings& s, It
     }
     have_g = false;
     const double r = result.residuals.back();
-    if (!point.fitted || plain_left > 0) {  // a plain local/global step
+    if (point.fitted && r <= ConvergenceMonitor::kRoundoff) {  // a fixed point to working precision
+      result.distance_estimate = r;
+      result.converged = true;
+      return;
+    }
+    // No iteration left in this call for a trial's G (lambda < 1): a plain step, so that
+    // calls of one iteration each (a live tick on a slow machine) still move.
+    const bool no_trial_left = !s.descent && result.iterations >= s.max_iterations;
+    if (!point.fitted || plain_left > 0 || no_trial_left) {  // a plain local/global step
       if (plain_left > 0) --plain_left;
       y.swap(g);
       point.energy = problem.local_fit(y, point.fit);
@@ -140,7 +151,8 @@ void newton_krylov_solve(FixedPointProblem& problem, const NewtonSettings& s, It
 
     // The linearization and, lagged, its coarse operator.
     auto t0 = Clock::now();
-    const std::unique_ptr<FixedPointLinearization> lin = problem.linearize(point.fit);
+    const bool positive_model = s.descent && !near_minimum;
+    const std::unique_ptr<FixedPointLinearization> lin = problem.linearize(point.fit, positive_model);
     result.linearize_ms += ms_since(t0);
     const double step_shift = shift;
     t0 = Clock::now();
@@ -158,7 +170,7 @@ void newton_krylov_solve(FixedPointProblem& problem, const NewtonSettings& s, It
     result.coarse_ms += ms_since(t0);
 
     // Forcing term; a tight one where the step may end the solve.
-    const bool exact = step_shift == 0.0;
+    const bool exact = step_shift == 0.0 && !positive_model;
     double eta = kForcingMax;
     if (previous_b_norm > 0.0) {
       eta = kForcingGamma * std::pow(b_norm / previous_b_norm, 2);
@@ -182,7 +194,7 @@ void newton_krylov_solve(FixedPointProblem& problem, const NewtonSettings& s, It
     };
     const LinearMap precondition = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
       const auto r_in = as_matrix(in, nf);
-      if (coarse && coarse->ready()) {
+      if (coarse && coarse->ready()) {  // multiplicative: the additive form took 2x the products (Spot)
         coarse->apply(r_in, coarse_part);
         apply_operator(coarse_part, product);
         remainder = r_in - product;
@@ -211,7 +223,8 @@ void newton_krylov_solve(FixedPointProblem& problem, const NewtonSettings& s, It
     double alpha = 1.0;
     const double slope = -2.0 * frobenius_dot(b, delta);  // dE/dalpha at lambda = 1
     if (std::isfinite(step_size) && (!s.descent || slope < 0.0)) {
-      for (int attempt = 0; attempt <= kBacktracks && result.iterations < s.max_iterations; ++attempt, alpha *= 0.5) {
+      for (int attempt = 0; attempt <= kBacktracks && (s.descent || result.iterations < s.max_iterations);
+           ++attempt, alpha *= 0.5) {
         stop_if_asked();
         trial_y = y + alpha * delta;
         trial_fit = point.fit;  // its rotations start the fit
@@ -242,9 +255,10 @@ void newton_krylov_solve(FixedPointProblem& problem, const NewtonSettings& s, It
       }
     }
     if (tracing())
-      std::fprintf(stderr, "newton %d: r %.2e |b| %.2e shift %.3g eta %.3g krylov %d (%.1e) step %.2e alpha %.3g %s E %.10g\n",
-                   result.newton_steps, r, b_norm, step_shift, eta, krylov.iterations, krylov.relative_residual,
+      std::fprintf(stderr, "newton %d%s: r %.2e |b| %.2e shift %.3g eta %.3g krylov %d (%.1e) step %.2e alpha %.3g %s E %.10g\n",
+                   result.newton_steps, positive_model ? " (model)" : "", r, b_norm, step_shift, eta, krylov.iterations, krylov.relative_residual,
                    step_size, alpha, accepted ? "kept" : "failed", point.energy);
+    if (accepted && positive_model && alpha == 1.0 && step_size <= kModelToNewton * s.tolerance) near_minimum = true;
     if (accepted) {
       last_exact_step = exact && alpha == 1.0 ? step_size : std::numeric_limits<double>::infinity();
       if (exact) result.distance_estimate = step_size;

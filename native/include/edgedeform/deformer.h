@@ -12,6 +12,7 @@
 
 #include "edgedeform/anderson.h"
 #include "edgedeform/coarse_space.h"
+#include "edgedeform/newton_krylov.h"
 #include "edgedeform/constrained_system.h"
 #include "edgedeform/convergence.h"
 #include "edgedeform/edge_topology.h"
@@ -208,6 +209,8 @@ class Deformer {
     bool y_accelerated = false;   // y came from an Anderson step not yet judged
     AndersonAccelerator anderson;
     ConvergenceMonitor monitor;
+    NewtonMemory newton;          // Newton-Krylov's state (newton_krylov.h)
+    bool newton_valid = false;    // newton describes this iteration (false after Anderson)
   } iter_;
   double diag_ = 0.0;             // rest bounding-box diagonal
   Eigen::MatrixXd rhs_;            // global-step scratch, reused by every iteration

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <memory>
 
 #include "edgedeform/coarse_space.h"
@@ -29,7 +30,8 @@ class FixedPointProblem {
   virtual void solve_A(const Eigen::MatrixXd& r, Eigen::MatrixXd& z) = 0;
   virtual const SparseMatrix& A() const = 0;
   // The linearization at the point of the last local_fit call, whose fit `fit` is.
-  virtual std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit) = 0;
+  // With `positive_model` (lambda = 1 only): the per-node positive model (linearize_fit).
+  virtual std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit, bool positive_model) = 0;
   // Asked between steps and inside the Krylov solve: true stops the solve.
   virtual bool interrupt_requested() = 0;
 };
@@ -40,10 +42,27 @@ struct NewtonSettings {
   double diag = 1.0;           // rest bounding-box diagonal
   bool descent = false;        // lambda = 1 on every term: E is the merit
   int krylov_iterations = 30;  // most products with K per Newton step
-  int plain_steps_first = 2;   // plain steps before the first Newton step of a solve
   const CoarseBasis* coarse = nullptr;     // none: the one-level preconditioner A^-1
   const SparseMatrix* coarse_stiffness = nullptr;  // U^T A U of that basis
   CoarseCorrection* coarse_correction = nullptr;   // kept by the caller: its analysis is reused
+};
+
+// The strategy's state between calls: a warm solve with unchanged targets continues where
+// the last call stopped (live editing standing still), instead of starting over.
+struct NewtonMemory {
+  int plain_steps_left = 2;   // plain steps before the next Newton step
+  double previous_b_norm = -1.0, previous_eta = 0.1;  // for the forcing term
+  double last_exact_step = std::numeric_limits<double>::infinity();  // of the last full Newton step, / diag
+  double shift = 0.0;         // Levenberg-Marquardt shift (relative to A)
+  bool near_minimum = false;  // lambda = 1: the true Hessian instead of the positive model
+  int coarse_age = 1 << 20;   // Newton steps since the coarse operator was factored
+  double coarse_shift = -1.0; // the shift it was factored with
+  // Starts afresh: `plain_steps` plain steps first; at lambda < 1 there is no positive model.
+  void reset(int plain_steps, bool descent) {
+    *this = NewtonMemory();
+    plain_steps_left = plain_steps;
+    near_minimum = !descent;
+  }
 };
 
 // The iterate the strategy continues: y, the fit at y (when fitted), E(y).
@@ -52,6 +71,7 @@ struct IterationPoint {
   LocalFit& fit;
   double& energy;
   bool& fitted;  // fit = fit(y); false for a cold start's first step (R = I, s = 1)
+  NewtonMemory& memory;
 };
 
 // Runs until converged or max_iterations global steps; fills result's iterations,

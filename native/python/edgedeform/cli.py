@@ -2,7 +2,7 @@
 
     python3 -m edgedeform deform MESH --constraints C.json --out OUT.obj
         [--domain edge|primal] [--stiffness 0.5 | --stiffness-file lam.txt]
-        [--iterations N] [--tolerance T] [--acceleration anderson|none] [--weld]
+        [--iterations N] [--tolerance T] [--acceleration newton|anderson|none] [--weld]
 
 C.json: {"handles": [...], "static": [...], "roi": null or [...],
          "handle_targets": [[x, y, z], ...]}   (targets in the order of handles)
@@ -30,6 +30,14 @@ EXIT_BAD_INPUT = 1
 
 class InputError(ValueError):
     """Bad command-line input; the message is shown to the user as is."""
+
+
+def _default_acceleration():
+    """The solver's own default, read from the binding's signature."""
+    import re
+    from . import _core
+    match = re.search(r'acceleration: str = [\'"]([a-z]+)', _core.Deformer.solve.__doc__ or "")
+    return match.group(1) if match else "anderson"
 
 
 def _program_name():
@@ -60,8 +68,9 @@ def _parser():
     d.add_argument("--tolerance", type=float, default=1e-3, metavar="T",
                    help="stop when the estimated largest vertex distance to the fixed point is "
                         "below T times the bounding-box diagonal (default 1e-3)")
-    d.add_argument("--acceleration", choices=("anderson", "none"), default="anderson",
-                   help="Anderson acceleration of the iteration (default) or the plain method")
+    d.add_argument("--acceleration", choices=("newton", "anderson", "none"), default=_default_acceleration(),
+                   help="how the fixed point is reached: Newton-Krylov steps, Anderson acceleration or the "
+                        "plain local/global method (default: the library's, %(default)s); all reach the same shapes")
     d.add_argument("--anderson-window", type=int, default=5, metavar="M",
                    help="Anderson history length (default 5)")
     d.add_argument("--weld", action="store_true",

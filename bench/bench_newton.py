@@ -1,0 +1,128 @@
+"""Newton-Krylov against Anderson and the plain method on the large benchmark meshes.
+
+Each cell is a cold default solve (a fresh Deformer: assembly and factorization included)
+to a tolerance of 1e-3 of the diagonal, timed by the wall clock, and its distance to the
+cell's reference (a solve run to a residual of 1e-10, cached in bench/results/cache/ and
+checked before reuse, as bench_convergence.py does).
+
+    python bench/bench_newton.py [--meshes koala.obj] [--lambdas 0.5,1] [--methods newton,anderson,none]
+                                 [--max-iterations 2000] [--out bench/results/newton.json]
+
+Prints a table and writes the JSON (with the machine and its load) and a PNG beside it.
+"""
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from bench_convergence import cached_reference  # noqa: E402
+from edits import diagonal, edit, mesh_path, method_list  # noqa: E402
+from machine import machine_info  # noqa: E402
+
+
+def cell(ed, V, F, mesh, edit_name, domain, lam, methods, max_iterations, tolerance):
+    handles, static, targets = edit(V, edit_name)
+    probe = ed.Deformer(V, F, domain=domain)
+    probe.set_constraints(handles, static)
+    probe.set_stiffness(lam)
+    X_ref, ref_residual, ref_iterations = cached_reference(probe, mesh.split(".")[0], edit_name, domain, lam, targets)
+    rows = []
+    for method in methods:
+        start = time.perf_counter()
+        d = ed.Deformer(V, F, domain=domain)
+        d.set_constraints(handles, static)
+        d.set_stiffness(lam)
+        r = d.solve(targets, max_iterations=max_iterations, tolerance=tolerance, acceleration=method)
+        wall = time.perf_counter() - start
+        dist = float(np.linalg.norm(r.positions - X_ref, axis=1).max() / diagonal(V))
+        rows.append({
+            "mesh": mesh, "edit": edit_name, "domain": domain, "lambda": lam, "method": method,
+            "vertices": len(V), "wall_s": wall, "factor_ms": r.factor_ms, "iterations": r.iterations,
+            "newton_steps": r.newton_steps, "krylov_iterations": r.krylov_iterations,
+            "coarse_dimension": r.coarse_dimension, "line_search_failures": r.line_search_failures,
+            "converged": bool(r.converged), "distance_estimate": float(r.distance_estimate),
+            "distance_to_reference": dist, "within_tolerance": dist <= tolerance,
+            "reference_residual": ref_residual, "reference_iterations": ref_iterations,
+        })
+        print(f"{mesh:>12} {edit_name:>5} {domain:>6} {lam:4.2f} {method:>8} {wall:8.2f} s {r.iterations:6d} it "
+              f"{r.newton_steps:3d} N {r.krylov_iterations:4d} K  conv={r.converged!s:5} dist={dist:.1e}", flush=True)
+    return rows
+
+
+def plot(rows, path):
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return None
+    labels = sorted({(r["mesh"], r["edit"], r["domain"], r["lambda"]) for r in rows})
+    methods = list(dict.fromkeys(r["method"] for r in rows))
+    fig, ax = plt.subplots(figsize=(7, 3.5))
+    width = 0.8 / max(len(methods), 1)
+    for k, m in enumerate(methods):
+        ys = [next((r["wall_s"] for r in rows if (r["mesh"], r["edit"], r["domain"], r["lambda"]) == lab and r["method"] == m), 0)
+              for lab in labels]
+        ax.bar([i + k * width for i in range(len(labels))], ys, width, label=m)
+    ax.set_xticks([i + 0.4 - width / 2 for i in range(len(labels))])
+    ax.set_xticklabels([f"{a.split('.')[0]} {b}\n{c} λ={d:g}" for a, b, c, d in labels], fontsize=8)
+    ax.set_ylabel("cold solve to 1e-3 diag (s)")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    return path
+
+
+def markdown(result):
+    """The benchmark page's section: one row per cell and method."""
+    m = result["machine"]
+    lines = [f"Measured {m['date']} on {m['cpu']} ({m['cores']} cores, 1-minute load {m['load_1min']}); "
+             f"`{result['command']}`. Cold solves (factorization included) to {result['tolerance']:g} of the "
+             "diagonal; distance to a reference run to a residual of 1e-10.", "",
+             "| mesh | edit | domain | λ | method | wall (s) | iterations | Newton steps | Krylov products | "
+             "converged | distance to reference |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in result["rows"]:
+        lines.append(f"| {r['mesh'].split('.')[0]} | {r['edit']} | {r['domain']} | {r['lambda']:g} | {r['method']} | "
+                     f"{r['wall_s']:.2f} | {r['iterations']} | {r['newton_steps']} | {r['krylov_iterations']} | "
+                     f"{'yes' if r['converged'] else 'no'} | {r['distance_to_reference']:.1e} |")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--meshes", default="koala.obj")
+    p.add_argument("--edits", default="lift")
+    p.add_argument("--domains", default="edge")
+    p.add_argument("--lambdas", default="0.5,1")
+    p.add_argument("--methods", default=None, help="comma-separated; default: every method the module offers")
+    p.add_argument("--max-iterations", type=int, default=2000)
+    p.add_argument("--tolerance", type=float, default=1e-3)
+    p.add_argument("--out", default=str(HERE / "results" / "newton.json"))
+    a = p.parse_args(argv)
+    import edgedeform as ed
+    from edgedeform.mesh_files import read_mesh
+    methods = method_list(ed, a.methods)
+    rows = []
+    for mesh in a.meshes.split(","):
+        V, F = read_mesh(mesh_path(mesh))[:2]
+        for edit_name in a.edits.split(","):
+            for domain in a.domains.split(","):
+                for lam in (float(x) for x in a.lambdas.split(",")):
+                    rows += cell(ed, V, F, mesh, edit_name, domain, lam, methods, a.max_iterations, a.tolerance)
+    out = Path(a.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    picture = plot(rows, out.with_suffix(".png"))
+    out.write_text(json.dumps({"machine": machine_info(), "command": " ".join(["bench/bench_newton.py"] + (argv or sys.argv[1:])),
+                               "tolerance": a.tolerance, "rows": rows, "plot": picture and Path(picture).name}, indent=1))
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()
