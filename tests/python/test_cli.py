@@ -186,7 +186,7 @@ def test_non_manifold_mesh_deforms(tmp_path):
 
 
 def _obj_text(V, F):
-    return ("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in V) +
+    return ("".join(f"v {float(x)!r} {float(y)!r} {float(z)!r}\n" for x, y, z in V) +
             "".join(f"f {i + 1} {j + 1} {k + 1}\n" for i, j, k in F))
 
 
@@ -222,8 +222,8 @@ def test_quads_uvs_and_normals_survive(tmp_path):
     n = 6
     i, j = np.meshgrid(np.arange(n), np.arange(n))
     V = np.stack([i.ravel() / (n - 1), j.ravel() / (n - 1), np.zeros(n * n)], axis=1)
-    lines = ["mtllib m.mtl\n", "o sheet\n"] + [f"v {x!r} {y!r} {z!r}\n" for x, y, z in V]
-    lines += [f"vt {x!r} {y!r}\n" for x, y, _ in V] + ["vn 0 0 1\n", "usemtl cloth\n"]
+    lines = ["mtllib m.mtl\n", "o sheet\n"] + [f"v {float(x)!r} {float(y)!r} {float(z)!r}\n" for x, y, z in V]
+    lines += [f"vt {float(x)!r} {float(y)!r}\n" for x, y, _ in V] + ["vn 0 0 1\n", "usemtl cloth\n"]
     lines += [f"f {a}/{a}/1 {a + 1}/{a + 1}/1 {a + n + 1}/{a + n + 1}/1 {a + n}/{a + n}/1\n"
               for a in (1 + b * n + c for b in range(n - 1) for c in range(n - 1))]
     src = tmp_path / "sheet.obj"

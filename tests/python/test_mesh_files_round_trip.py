@@ -37,8 +37,8 @@ def _lines_except(text, keys):
 
 def _obj_text(V, faces):
     out = ["# made by the test\n", "mtllib test.mtl\n", "o thing\n"]
-    out += [f"v {x!r} {y!r} {z!r} 0.5 0.25 1\n" for x, y, z in V]   # with vertex colours
-    out += [f"vt {u!r} {v!r}\n" for u, v, _ in V]
+    out += [f"v {float(x)!r} {float(y)!r} {float(z)!r} 0.5 0.25 1\n" for x, y, z in V]   # with vertex colours
+    out += [f"vt {float(u)!r} {float(v)!r}\n" for u, v, _ in V]
     out += ["vn 0 0 1\n", "vn 0 0 1\n"]           # one shared by the quads, one by the pentagon
     out += ["g quads\n", "usemtl red\n", "s 1\n"]
     for f in faces[:-1]:
@@ -91,7 +91,7 @@ def test_obj_split_normals_stay_split(tmp_path):
 def test_off_keeps_polygons_colours_and_comments(tmp_path):
     V, faces = _mesh()
     lines = ["COFF\n", "# a comment\n", f"{len(V)} {len(faces)} 0\n"]
-    lines += [f"{x!r} {y!r} {z!r} 255 128 0 255\n" for x, y, z in V]
+    lines += [f"{float(x)!r} {float(y)!r} {float(z)!r} 255 128 0 255\n" for x, y, z in V]
     lines += [f"{len(f)} " + " ".join(map(str, f)) + " 0.1 0.2 0.3\n" for f in faces]
     src = tmp_path / "in.off"
     src.write_text("".join(lines))
@@ -108,7 +108,7 @@ def test_off_keeps_polygons_colours_and_comments(tmp_path):
 def test_noff_normals_recomputed(tmp_path):
     V, faces = _mesh()
     lines = ["NOFF\n", f"{len(V)} {len(faces)} 0\n"]
-    lines += [f"{x!r} {y!r} {z!r} 0 0 1\n" for x, y, z in V]
+    lines += [f"{float(x)!r} {float(y)!r} {float(z)!r} 0 0 1\n" for x, y, z in V]
     lines += [f"{len(f)} " + " ".join(map(str, f)) + "\n" for f in faces]
     src = tmp_path / "in.off"
     src.write_text("".join(lines))
@@ -135,7 +135,7 @@ def _ply_bytes(V, faces, fmt, xyz="float"):
               "element material 1\nproperty float shine\nend_header\n").encode()
     colour = np.array([[10 * k % 256, 20, 30] for k in range(len(V))])
     if fmt == "ascii":
-        body = "".join(f"{x!r} {y!r} {z!r} 0 0 1 {r} {g} {b} {x!r} {y!r}\n"
+        body = "".join(f"{float(x)!r} {float(y)!r} {float(z)!r} 0 0 1 {r} {g} {b} {float(x)!r} {float(y)!r}\n"
                        for (x, y, z), (r, g, b) in zip(V, colour))
         body += "".join(f"{len(f)} " + " ".join(map(str, f)) + f" {k}\n" for k, f in enumerate(faces))
         body += "0.75\n"

@@ -129,7 +129,7 @@ def test_weld_stiffness_is_the_mean_of_the_copies():
 def test_cli_warns_without_weld_and_welds_with_it(tmp_path):
     V, F, column = split_grid()
     mesh = tmp_path / "split.obj"
-    mesh.write_text("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in V) +
+    mesh.write_text("".join(f"v {float(x)!r} {float(y)!r} {float(z)!r}\n" for x, y, z in V) +
                     "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in F))
     handles, static, targets = lift_setup(V)
     c = tmp_path / "c.json"
