@@ -28,17 +28,29 @@ Eigen::Vector3d rotation_change(const Eigen::Matrix3d& R1, const Eigen::Matrix3d
   return 0.5 * Eigen::Vector3d(D(2, 1) - D(1, 2), D(0, 2) - D(2, 0), D(1, 0) - D(0, 1));
 }
 
+// A bumpy n x n grid's graph in `domain` and the stencil of every node.
+struct GridStencil {
+  test::TestMesh mesh;
+  NodeGraph graph;
+  NodeStencil stencil;
+  GridStencil(int n, Domain domain) : mesh(test::grid(n, n, 0.2)) {
+    const EdgeTopology topology = build_edge_topology(mesh.F, static_cast<int>(mesh.V.rows()));
+    graph = build_node_graph(mesh.V, mesh.F, topology, domain, true);
+    std::vector<int> all(graph.n_nodes);
+    for (int i = 0; i < graph.n_nodes; ++i) all[i] = i;
+    stencil = build_stencil(graph, graph.node_positions(mesh.V), all, all);
+  }
+};
+
 class LocalFitDerivative : public ::testing::TestWithParam<Domain> {};
 
 }  // namespace
 
 TEST_P(LocalFitDerivative, MatchesCentralDifferencesOfTheFit) {
-  const test::TestMesh m = test::grid(9, 9, 0.2);
-  const EdgeTopology topology = build_edge_topology(m.F, static_cast<int>(m.V.rows()));
-  const NodeGraph graph = build_node_graph(m.V, m.F, topology, GetParam(), true);
-  std::vector<int> all(graph.n_nodes);
-  for (int i = 0; i < graph.n_nodes; ++i) all[i] = i;
-  const NodeStencil st = build_stencil(graph, graph.node_positions(m.V), all, all);
+  const GridStencil grid(9, GetParam());
+  const test::TestMesh& m = grid.mesh;
+  const NodeGraph& graph = grid.graph;
+  const NodeStencil& st = grid.stencil;
   const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(st.n_terms, 0.5);
   const RowMatrixX3d p = graph.node_positions(deformed(m.V));
   LocalFit fit;
@@ -77,12 +89,10 @@ TEST_P(LocalFitDerivative, MatchesCentralDifferencesOfTheFit) {
 }
 
 TEST_P(LocalFitDerivative, ClampedScalesDoNotMove) {
-  const test::TestMesh m = test::grid(7, 7, 0.2);
-  const EdgeTopology topology = build_edge_topology(m.F, static_cast<int>(m.V.rows()));
-  const NodeGraph graph = build_node_graph(m.V, m.F, topology, GetParam(), true);
-  std::vector<int> all(graph.n_nodes);
-  for (int i = 0; i < graph.n_nodes; ++i) all[i] = i;
-  const NodeStencil st = build_stencil(graph, graph.node_positions(m.V), all, all);
+  const GridStencil grid(7, GetParam());
+  const test::TestMesh& m = grid.mesh;
+  const NodeGraph& graph = grid.graph;
+  const NodeStencil& st = grid.stencil;
   const RowMatrixX3d p = graph.node_positions(6.0 * m.V);  // scale 6 > kMaxScale everywhere
   LocalFit fit;
   fit_local(st, p, Eigen::VectorXd::Zero(st.n_terms), fit);
