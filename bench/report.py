@@ -36,6 +36,8 @@ PAGES = {
         ("How long does the 50k koala lift take to converge?",
          "convergence_koala.json", "bench/bench_convergence.py --koala-only",
          "bench_convergence:koala_markdown"),
+        ("Newton–Krylov against Anderson and the plain method on the large meshes",
+         "newton.json", "bench/bench_newton.py", "bench_newton:markdown"),
         ("How slowly do the slowest modes contract?",
          "spectrum.json", "bench/bench_spectrum.py", "bench_spectrum:markdown"),
         ("Does every sample scene converge, or say that it did not?",
