@@ -1,6 +1,7 @@
 #include "edgedeform/constrained_system.h"
 
 #include "edgedeform/stiffness.h"
+#include "edgedeform/term_shares.h"
 
 #include <algorithm>
 #include <deque>
@@ -314,8 +315,9 @@ void update_stiffness(AssembledSystem& out, const ConstrainedSystem& sys, const 
   Eigen::VectorXd w1(st.n_arcs());
   for (int t = 0; t < T; ++t)
     for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a)
-      w1(a) = (out.term_lambda(t) + out.term_similar(t)) * st.weight[static_cast<size_t>(a)];
-  const Eigen::VectorXd w2 = (1.0 - out.term_lambda.array() - out.term_similar.array()).matrix();
+      w1(a) = term_shares(out.term_lambda(t), out.term_similar(t)).one_form() * st.weight[static_cast<size_t>(a)];
+  Eigen::VectorXd w2(T);
+  for (int t = 0; t < T; ++t) w2(t) = term_shares(out.term_lambda(t), out.term_similar(t)).smooth;
 
   // The J1 term is kept even when every W1 is 0: its pattern lies inside the J2 term's, so
   // the symbolic analysis survives any change of lambda below 1.

@@ -5,6 +5,7 @@
 
 
 #include "edgedeform/lanes.h"
+#include "edgedeform/term_shares.h"
 #include "edgedeform/node_graph.h"
 #include "edgedeform/parallel.h"
 
@@ -145,7 +146,8 @@ double finish_term(const NodeStencil& st, const RowMatrixX3d& p, double lambda, 
     }
   }
   const double smooth = (c.laplacian - s * (R * st.rest_laplacian.row(t).transpose())).squaredNorm();
-  return lambda * rigid + similar * similarity + (1.0 - lambda - similar) * smooth;
+  const TermShares share = term_shares(lambda, similar);
+  return share.rigid * rigid + share.similar * similarity + share.smooth * smooth;
 }
 
 // Threads only for stencils of at least this many terms. The 1k-vertex edge-domain lift

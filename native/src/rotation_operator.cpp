@@ -102,8 +102,9 @@ void RotationOperator::apply(const std::vector<Eigen::Matrix3d>& rotation, const
     for (int t = begin; t < end; ++t) {
       const auto k = static_cast<size_t>(t);
       const double s = scale(t);
-      weight[2 * k] = lambda_[k] + similar_[k] * s;                  // on h_R
-      weight[2 * k + 1] = (1.0 - lambda_[k] - similar_[k]) * s;      // on h_T
+      const TermShares share = term_shares(lambda_[k], similar_[k]);
+      weight[2 * k] = share.rigid + share.similar * s;  // on h_R
+      weight[2 * k + 1] = share.smooth * s;             // on h_T
     }
   });
   const int n = rows();

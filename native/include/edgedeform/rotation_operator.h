@@ -11,6 +11,7 @@
 
 #include <vector>
 
+#include "edgedeform/term_shares.h"
 #include "edgedeform/types.h"
 
 namespace edgedeform {
@@ -60,10 +61,11 @@ class RotationOperator {
   void block_vectors(int block, double scale, Eigen::Vector3d& g, Eigen::Vector3d& k) const {
     const auto t = static_cast<size_t>(term_[static_cast<size_t>(block)]);
     const double* h = &coef_[6 * static_cast<size_t>(block)];
-    const double smooth = 1.0 - lambda_[t] - similar_[t];
-    const double on_R = lambda_[t] + similar_[t] * scale, on_T = smooth * scale;
+    const TermShares share = term_shares(lambda_[t], similar_[t]);
+    const double on_R = share.rigid + share.similar * scale, on_T = share.smooth * scale;
     g = Eigen::Vector3d(on_R * h[0] + on_T * h[3], on_R * h[1] + on_T * h[4], on_R * h[2] + on_T * h[5]);
-    k = Eigen::Vector3d(similar_[t] * h[0] + smooth * h[3], similar_[t] * h[1] + smooth * h[4], similar_[t] * h[2] + smooth * h[5]);
+    k = Eigen::Vector3d(share.similar * h[0] + share.smooth * h[3], share.similar * h[1] + share.smooth * h[4],
+                        share.similar * h[2] + share.smooth * h[5]);
   }
   // Blocks of row r: offsets()[r] .. offsets()[r+1), each with its term.
   const std::vector<int>& offsets() const { return offsets_; }
