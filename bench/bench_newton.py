@@ -81,10 +81,9 @@ def plot(rows, path):
 
 
 def markdown(result):
-    """The benchmark page's section: one row per cell and method."""
-    m = result["machine"]
-    lines = [f"Measured {m['date']} on {m['cpu']} ({m['cores']} cores, 1-minute load {m['load_1min']}); "
-             f"`{result['command']}`. Cold solves (factorization included) to {result['tolerance']:g} of the "
+    """The benchmark page's section: one row per cell and method (bench/report.py heads it
+    with the run's date, machine and command)."""
+    lines = [f"Cold solves (factorization included) to {result['tolerance']:g} of the "
              "diagonal; distance to a reference run to a residual of 1e-10.", "",
              "| mesh | edit | domain | λ | method | wall (s) | iterations | Newton steps | Krylov products | "
              "converged | distance to reference |", "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -119,9 +118,22 @@ def main(argv=None):
     out = Path(a.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     picture = plot(rows, out.with_suffix(".png"))
-    out.write_text(json.dumps({"machine": machine_info(), "command": " ".join(["bench/bench_newton.py"] + (argv or sys.argv[1:])),
+    shown = [in_repo(arg) for arg in (argv or sys.argv[1:])]
+    out.write_text(json.dumps({"machine": machine_info(), "command": " ".join(["bench/bench_newton.py"] + shown),
                                "tolerance": a.tolerance, "rows": rows, "plot": picture and Path(picture).name}, indent=1))
     print(f"wrote {out}")
+
+
+def in_repo(arg):
+    """An absolute path inside the repository as a path from its root (the recorded command
+    then names no directory of the machine it ran on); any other argument unchanged."""
+    path = Path(arg)
+    if not path.is_absolute():
+        return arg
+    try:
+        return str(path.resolve().relative_to(HERE.parent))
+    except ValueError:
+        return arg
 
 
 if __name__ == "__main__":
