@@ -1,6 +1,6 @@
 // The dense index code of constrained_system.cpp, property-test style: the column layout
 // (free vertices, then the fixed ones the terms touch), and the assembled matrices against
-// a dense reference built straight from the energy's definition (DESIGN §2).
+// a dense reference built straight from the energy's definition (docs/design.md §3, "Energy").
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>

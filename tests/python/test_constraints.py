@@ -1,4 +1,4 @@
-"""Hard constraints (DESIGN section 2): handles exactly on targets, static vertices and
+"""Hard constraints (docs/design.md §3): handles exactly on targets, static vertices and
 vertices outside the region of interest exactly at rest."""
 
 import numpy as np
@@ -46,7 +46,7 @@ def test_outside_roi_stays_at_rest(name, domain):
     inside_free = np.setdiff1d(roi, np.concatenate([handles, static]))
     assert r.free_vertices == len(inside_free)
     assert np.abs(X[inside_free] - V[inside_free]).max() > 0.01 * diag(V)
-    # DESIGN: only nodes whose terms touch a free vertex are assembled
+    # only nodes whose terms touch a free vertex are assembled (docs/design.md §3, region of interest)
     assert 0 < r.active_nodes < d.n_nodes
 
 

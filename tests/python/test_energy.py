@@ -1,4 +1,4 @@
-"""Energy behaviour of the iteration (DESIGN section 2 "Iteration"):
+"""Energy behaviour of the iteration (docs/design.md §3, "The one-step map"):
 lambda = 1 is ARAP block descent, so E never rises (with or without Anderson acceleration,
 whose safeguard keeps it monotone); lambda < 1 is the paper's fixed point, which must come
 within 1e-3 diag of its fixed point (estimated, see docs/api.md) in bounded time."""

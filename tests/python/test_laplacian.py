@@ -1,5 +1,5 @@
 """The graph, its weights and its Laplacian against finite-element matrices that the
-test assembles itself (DESIGN section 2 "Graph and weights")."""
+test assembles itself (docs/design.md §3 "Arcs and weights")."""
 
 import numpy as np
 import pytest

@@ -1,6 +1,6 @@
 """Newton-Krylov (acceleration="newton"): the analytic Jacobian, the fixed point it reaches,
-its claims, its safeguards and its degenerate coarse spaces (DESIGN §2, "Reaching the fixed
-point")."""
+its claims, its safeguards and its degenerate coarse spaces (docs/design.md §4, "Reaching the
+fixed point")."""
 
 import os
 import subprocess

@@ -1,6 +1,6 @@
 """Started from the naive-Laplacian solve, the local/global iteration must reach the
 rigidly moved rest shape (the energy's zero) when every constrained vertex moves by the
-same rigid motion. Plain local/global is slow here (DESIGN section 2), so the iteration
+same rigid motion. Plain local/global is slow here (docs/design.md §4), so the iteration
 budget is generous and the counts are recorded for docs/benchmarks.md.
 
 Meshes: Spot (closed) and three peaks (boundary). Not the flat plane: there every interior
