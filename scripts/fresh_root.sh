@@ -4,7 +4,7 @@
 # Makes DIR with `debootstrap --variant=minbase` from the mirror in this machine's apt
 # sources, bind-mounts /proc, /sys and /dev, trusts this machine's extra certificates (pip
 # inside needs them behind a TLS proxy), installs git and clones this checkout into
-# DIR/work/main, with a copy of ../shared beside it. Then, for example:
+# DIR/work/main (the clone alone: nothing outside the repository is needed). Then, for example:
 #   chroot DIR bash -c 'cd /work/main && time scripts/test.sh'
 # Unmount with: umount -R DIR/proc DIR/sys DIR/dev
 set -euo pipefail
@@ -30,5 +30,4 @@ chroot "$root" bash -c 'export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq && apt-get install -y -qq ca-certificates git >/dev/null && update-ca-certificates'
 mkdir -p "$root/work"
 [ -d "$root/work/main/.git" ] || git clone -q "$repo" "$root/work/main"
-[ -d "$repo/../shared" ] && [ ! -d "$root/work/shared" ] && cp -a "$repo/../shared" "$root/work/shared"
 echo "fresh_root: $suite in $root; the checkout is $root/work/main"
