@@ -1,0 +1,96 @@
+"""Every relative link in the repository's Markdown pages reaches a file or folder in the
+repository, and every #anchor a heading on the page it names (GitHub's heading slugs).
+Links to web pages (http:, https:, mailto:) are not followed. Pure Python: no build."""
+
+import re
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+
+# README.md, docs/ (the decision records included) and the pages beside the data they describe.
+PAGES = sorted({ROOT / "README.md", *ROOT.glob("docs/**/*.md"), *ROOT.glob("blend_samples/*.md"),
+                *ROOT.glob("blend_samples/meshes/*.md"), *ROOT.glob("bench/meshes/*.md"),
+                *ROOT.glob("tests/data/*.md"), *ROOT.glob("demo/*.md")})
+
+# [text](target) and ![alt](target), an optional "title" after the target; [name]: target
+INLINE = re.compile(r"!?\[(?:[^\[\]]|\[[^\]]*\])*\]\(\s*<?([^)\s>]+)>?(?:\s+\"[^\"]*\")?\s*\)")
+REFERENCE = re.compile(r"^\s{0,3}\[[^\]]+\]:\s*<?(\S+?)>?(?:\s+\"[^\"]*\")?\s*$", re.M)
+FENCE = re.compile(r"^(```|~~~).*?^\1", re.M | re.S)
+CODE_SPAN = re.compile(r"(`+)(?:(?!\1).)+?\1", re.S)
+
+
+def links(text):
+    """The link targets of a Markdown text, code blocks and code spans left out."""
+    text = CODE_SPAN.sub("", FENCE.sub("", text))
+    return INLINE.findall(text) + REFERENCE.findall(text)
+
+
+def slug(heading):
+    """GitHub's anchor for a heading: lower case, punctuation dropped, spaces to hyphens."""
+    heading = re.sub(r"`|\*\*|__|\[([^\]]*)\]\([^)]*\)", r"\1", heading.strip()).lower()
+    return re.sub(r"[^\w\- ]", "", heading).replace(" ", "-")
+
+
+def anchors(page):
+    """The anchors a page's headings give, numbered as GitHub numbers repeated ones."""
+    seen, out = {}, set()
+    for line in FENCE.sub("", page.read_text(encoding="utf-8")).splitlines():
+        m = re.match(r"^#{1,6}\s+(.*?)\s*#*\s*$", line)
+        if m:
+            base = slug(m.group(1))
+            n = seen.get(base, 0)
+            seen[base] = n + 1
+            out.add(base if n == 0 else f"{base}-{n}")
+    out.update(re.findall(r"<a\s+(?:name|id)=\"([^\"]+)\"", page.read_text(encoding="utf-8")))
+    return out
+
+
+def dead_links(page):
+    """(target, reason) for each link of the page that does not resolve."""
+    dead = []
+    for target in links(page.read_text(encoding="utf-8")):
+        if re.match(r"^[a-z][a-z0-9+.-]*:", target, re.I):  # http:, https:, mailto:
+            continue
+        path, _, anchor = target.partition("#")
+        resolved = (page.parent / path).resolve() if path else page
+        if path.startswith("/"):
+            dead.append((target, "absolute path: link relative to the page"))
+        elif ROOT not in resolved.parents and resolved != ROOT:
+            dead.append((target, "points outside the repository"))
+        elif not resolved.exists():
+            dead.append((target, "no such file or folder"))
+        elif anchor and resolved.suffix == ".md" and anchor not in anchors(resolved):
+            dead.append((target, f"no heading with anchor #{anchor} in {resolved.relative_to(ROOT)}"))
+    return dead
+
+
+def test_the_pages_are_found():
+    names = {p.relative_to(ROOT).as_posix() for p in PAGES}
+    assert {"README.md", "docs/design.md", "docs/addon.md", "docs/decisions/README.md"} <= names
+
+
+@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.relative_to(ROOT).as_posix())
+def test_relative_links_resolve(page):
+    dead = dead_links(page)
+    assert not dead, f"{page.relative_to(ROOT)}: " + "; ".join(f"({t}) {why}" for t, why in dead)
+
+
+def test_the_check_finds_a_dead_link(tmp_path, monkeypatch):
+    """The checker itself: a missing file, a missing anchor and a way out are each reported;
+    a good link, a web link and a link inside a code span are not."""
+    docs = ROOT / "docs"
+    page = docs / "design.md"
+    text = ("[ok](addon.md) [ok2](decisions/README.md) [web](https://example.org/x.md) "
+            "`[code](nowhere.md)` [gone](no_such_page.md) [anchor](addon.md#no-such-heading) "
+            "[out](../../elsewhere/DESIGN.md)\n")
+    monkeypatch.setattr(Path, "read_text", lambda self, **kw: text if self == page else
+                        Path.read_bytes(self).decode("utf-8"))
+    found = [t for t, _ in dead_links(page)]
+    assert found == ["no_such_page.md", "addon.md#no-such-heading", "../../elsewhere/DESIGN.md"]
+
+
+if __name__ == "__main__":
+    sys.exit(pytest.main([__file__, "-q"]))
