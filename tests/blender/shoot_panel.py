@@ -1,6 +1,7 @@
-"""Screenshots of the Edge Deform sidebar for docs/addon.md (run under Xvfb, see
-docs/addon.md): the bound plane with a handle, a static group and a painted stiffness
-group, at the default sidebar width and dragged 60 px narrower. Images go to
+"""Screenshots of the Edge Deform sidebar for docs/addon.md: the bound plane with a handle,
+a static group and a painted stiffness group, at the default sidebar width and dragged
+60 px narrower. Run it under Xvfb with the window tests' environment and command line
+(tests/blender/CMakeLists.txt), this file in place of test_<name>.py. Images go to
 $EDGEDEFORM_TEST_OUT/panel_*.png (whole window; crop for the docs)."""
 
 import os
