@@ -134,13 +134,9 @@ def run(mesh, domain, lam, drag_ticks, log):
 
 
 def markdown(result):
-    rows, machine = result["rows"], result["machine"]
-    lines = [
-        "### Live settling after the mouse stops (bench/bench_live_settle.py)",
-        "",
-        f"Machine: {machine['cpu']}, {machine['cores']} cores, **shared with other jobs** "
-        f"(load {machine['load_1min']:.1f}), {machine['date']}. Iteration and tick counts are "
-        "exact; times are noisy.",
+    rows = result["rows"]
+    lines = [  # the date, machine and load head the page's section (bench/report.py)
+        "Iteration and tick counts are exact; times depend on the machine's load.",
         "",
         "Live Deform replayed without Blender: a 60 Hz tick warm solves for the add-on's "
         f"time budget (settle.py: {settle.TICK_BUDGET_MS:g} ms on a quick redraw). The drag lifts the handles "

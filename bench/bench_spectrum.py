@@ -133,9 +133,7 @@ def cell_label(r):
 
 
 def markdown(result):
-    m = result["machine"]
-    lines = [
-        f"Machine: {m['cpu']}, {m['cores']} cores (load {m['load_1min']:.1f}), {m['date']}. "
+    lines = [  # the date, machine and load head the page's section (bench/report.py)
         f"Arnoldi with {result['steps']} finite-difference products of the package's one-step map G "
         "at the reference (a cold default solve run to tolerance 1e-10, at most 6000 iterations); "
         "|μ| = the largest Ritz moduli of G's Jacobian there. A mode with |μ| contracts by |μ| per "

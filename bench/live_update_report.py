@@ -11,10 +11,8 @@ def markdown(result):
         "(one Empty moving a little every update), lowest 20 %% static, λ = 0.5. Median "
         "of %d updates after 3 warm-up updates." % (info["blender"], results[0]["updates"]),
         "",
-        "Machine: %s, %d cores (shared with other jobs; 1-min load %.1f), solver %s, "
-        "OpenMP threads %s. Date: %s." % (
-            info["cpu"], info["cores"], info["load_1min"] or 0, info["build"]["solver"],
-            info["build"]["threads"], info["date"]),
+        # the date, machine and load head the page's section (bench/report.py)
+        "Solver %s, OpenMP threads %s." % (info["build"]["solver"], info["build"]["threads"]),
         "",
         "| mesh | vertices | domain | nodes | bind ms | targets ms | solve ms (local / rhs "
         "/ back-sub) | write ms | **update ms** | **updates/s** | depsgraph ms | "
