@@ -19,8 +19,8 @@ from bpy_extras.view3d_utils import location_3d_to_region_2d  # noqa: E402
 from helpers import OUT, Told, add_group, bpy, key_positions, np, positions  # noqa: E402
 from helpers import select_only, visible  # noqa: E402
 from mathutils import Vector  # noqa: E402
-from window_harness import (center, event, main, override, screenshot,  # noqa: E402
-                            setup, tap, until, view3d)
+from window_harness import (center, event, g_drag, grab_until_moved, main,  # noqa: E402
+                            override, screenshot, setup, tap, until, view3d)
 
 
 def plane():
@@ -109,15 +109,9 @@ def f01_grab_from_the_panel_is_pointer_relative():
         bpy.ops.object.mode_set(mode='EDIT')
     rest = positions(ob.data).astype(float)
     # Blender's G on the same selection, 40 px to the right (read while it runs), then Esc.
-    start = center()
-    event('MOUSEMOVE', at=start)
-    yield
-    tap('G', at=start)
-    yield
-    event('MOUSEMOVE', at=center(20, 0))
-    yield
-    event('MOUSEMOVE', at=center(40, 0))
-    for _ in range(3):
+    start = center()                          # where Grab Deform's drag starts below
+    yield from g_drag((20, 0), (40, 0), confirm=False)
+    for _ in range(2):
         yield
     bm = bmesh.from_edit_mesh(ob.data)
     bm.verts.ensure_lookup_table()
@@ -166,13 +160,7 @@ def f02_edit_mode_shows_the_grab():
     rest = positions(ob.data).astype(float)
     with override():
         bpy.ops.object.mode_set(mode='EDIT')
-    event('MOUSEMOVE', at=center())
-    yield
-    with override():
-        assert bpy.ops.edge_deform.grab('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
-    event('MOUSEMOVE', at=center(0, 60))
-    yield from until(lambda: ob.data.shape_keys is not None and np.linalg.norm(
-        key_positions(ob)[handle] - rest[handle], axis=1).min() > 0.05)
+    yield from grab_until_moved(ob, handle, rest, dy=60, least=0.05)
     tap('RET', at=center(0, 60))
     yield from until(lambda: running() is None and ob.mode == 'EDIT')
     assert ob.mode == 'EDIT', "back in Edit Mode"
@@ -207,12 +195,8 @@ def f03_live_leaves_the_header_and_status_bar():
         bpy.context.view_layer.objects.active = ctrl()
         ctrl().select_set(True)
         plane().select_set(False)
-        event('MOUSEMOVE', at=center())
-        yield
-        tap('G', at=center())
-        yield
-        event('MOUSEMOVE', at=center(30, 0))
-        for _ in range(4):
+        yield from g_drag((30, 0), confirm=False)
+        for _ in range(3):
             yield
         screenshot("artist_g_inside_live.png")
         tap('RET', at=center(30, 0))

@@ -18,7 +18,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bpy_extras.view3d_utils import location_3d_to_region_2d  # noqa: E402
 from helpers import Told, add_group, bpy, key_positions, np, positions  # noqa: E402
 from mathutils import Vector  # noqa: E402
-from window_harness import (center, event, main, override, screenshot,  # noqa: E402
+from window_harness import (center, event, g_drag, main, override, screenshot,  # noqa: E402
                             setup, tap, until, view3d)
 
 
@@ -100,20 +100,6 @@ def select_mesh(ob):
     assert bpy.context.view_layer.objects.active == ob
 
 
-def grab_move(dy):
-    """G in the viewport, the mouse `dy` pixels down, Enter: Blender's own move."""
-    event('MOUSEMOVE', at=center())
-    yield
-    tap('G', at=center())
-    yield
-    event('MOUSEMOVE', at=center(0, dy // 2))
-    yield
-    event('MOUSEMOVE', at=center(0, dy))
-    yield
-    tap('RET', at=center(0, dy))
-    yield
-
-
 def steps():
     from edge_deform import op_common, ui
     tap('ESC')   # dismiss the splash screen
@@ -184,15 +170,7 @@ def steps():
     assert op_common.running_tool() is tool, "the click does not end Live"
     assert ui.deformed_object(bpy.context) == ob, "the panel stays for the mesh"
     c0 = ctrl().matrix_world.translation.copy()
-    event('MOUSEMOVE', at=center())
-    yield
-    tap('G', at=center())
-    yield
-    event('MOUSEMOVE', at=center(0, 60))
-    yield
-    event('MOUSEMOVE', at=center(0, 120))
-    yield
-    tap('RET', at=center(0, 120))
+    yield from g_drag((0, 60), (0, 120))
     yield from until(lambda: (ctrl().matrix_world.translation - c0).length > 0.05 and np.abs(
         (key_positions(ob)[handle] - rest[handle]).mean(axis=0)
         - np.array(ctrl().matrix_world.translation - c0)).max() < 1e-3)
@@ -263,7 +241,8 @@ def steps():
         assert ui.deformed_object(bpy.context) == ob, "for the controller's mesh"
     start = ctrl().matrix_world.translation.copy()
     before = key_positions(ob).copy()
-    yield from grab_move(60)
+    yield from g_drag((0, 30), (0, 60))   # Blender's own move, 60 px down
+    yield
     yield from until(lambda: (ctrl().matrix_world.translation - start).length > 0.05
                      and np.abs((key_positions(ob)[handle] - before[handle]).mean(axis=0)
                                 - np.array(ctrl().matrix_world.translation - start)).max()
@@ -303,13 +282,7 @@ def steps():
     tap('LEFTMOUSE', at=spot)
     yield from until(lambda: bpy.context.view_layer.objects.active == ctrl())
     for dy in (50, -80):
-        event('MOUSEMOVE', at=center())
-        yield
-        tap('G', at=center())
-        yield
-        event('MOUSEMOVE', at=center(0, dy))
-        yield
-        tap('RET', at=center(0, dy))
+        yield from g_drag((0, dy))
         yield
     yield from until(lambda: (ctrl().matrix_world.translation - c0).length > 0.05)
     c1 = ctrl().matrix_world.translation.copy()

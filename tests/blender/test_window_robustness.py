@@ -19,18 +19,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from helpers import Told, bpy, key_positions, np, positions, select_only  # noqa: E402
-from window_harness import center, event, main, override, setup, tap, until  # noqa: E402
-
-
-def grab_until_moved(ob, handle, rest):
-    """Start Grab Deform over the viewport and drag until every handle vertex has moved."""
-    event('MOUSEMOVE', at=center())
-    yield
-    with override():
-        assert bpy.ops.edge_deform.grab('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
-    event('MOUSEMOVE', at=center(0, 70))
-    yield from until(lambda: ob.data.shape_keys is not None and np.linalg.norm(
-        key_positions(ob)[handle] - rest[handle], axis=1).min() > 0.01)
+from window_harness import center, grab_until_moved, main, override, setup, tap, until  # noqa: E402
 
 
 def plane():

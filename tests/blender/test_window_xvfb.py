@@ -15,7 +15,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from helpers import bpy, key_positions, np, positions, select_only  # noqa: E402
-from window_harness import (center, event, main, override, screenshot,  # noqa: E402
+from window_harness import (center, event, g_drag, main, override, screenshot,  # noqa: E402
                             setup, tap, until)
 
 
@@ -61,15 +61,7 @@ def steps():
     bpy.context.view_layer.objects.active = ctrl()
     ctrl().select_set(True)
     plane().select_set(False)
-    event('MOUSEMOVE', at=center())
-    yield
-    tap('G', at=center())
-    yield
-    event('MOUSEMOVE', at=center(60, 0))
-    yield
-    event('MOUSEMOVE', at=center(120, 0))
-    yield
-    tap('RET', at=center(120, 0))
+    yield from g_drag((60, 0), (120, 0))
     yield from until(lambda: abs((key_positions(plane())[handle, 0] - rest[handle, 0]).mean()
                                  - (ctrl().matrix_world.translation.x - c0.translation.x))
                      < 1e-3 and ctrl().matrix_world.translation.x - c0.translation.x > 0.05)

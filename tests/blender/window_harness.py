@@ -12,7 +12,7 @@ import traceback
 from mathutils import Euler
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from helpers import OUT, bpy, plane_with_end_groups, register  # noqa: E402
+from helpers import OUT, bpy, key_positions, np, plane_with_end_groups, register  # noqa: E402
 
 STEP = 0.1  # seconds between steps: several 60 Hz ticks of the tools' timers
 
@@ -59,6 +59,33 @@ def screenshot(name):
         with override():
             bpy.ops.screen.screenshot(filepath=path)
     print("screenshot:", path, "-", screen_capture.save(path, take))
+
+
+def g_drag(*offsets, confirm=True):
+    """Blender's own G in the viewport: the pointer to the view's centre, G, then one mouse
+    move per offset (pixels from the centre), a step after each; with `confirm`, Enter at
+    the last offset (no step after it: the caller waits for what it expects)."""
+    event('MOUSEMOVE', at=center())
+    yield
+    tap('G', at=center())
+    yield
+    for dx, dy in offsets:
+        event('MOUSEMOVE', at=center(dx, dy))
+        yield
+    if confirm:
+        tap('RET', at=center(*offsets[-1]))
+
+
+def grab_until_moved(ob, handle, rest, dy=70, least=0.01):
+    """Start Grab Deform over the viewport and drag the pointer `dy` pixels down until every
+    handle vertex of the output key has moved more than `least`."""
+    event('MOUSEMOVE', at=center())
+    yield
+    with override():
+        assert bpy.ops.edge_deform.grab('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
+    event('MOUSEMOVE', at=center(0, dy))
+    yield from until(lambda: ob.data.shape_keys is not None and np.linalg.norm(
+        key_positions(ob)[handle] - rest[handle], axis=1).min() > least)
 
 
 def until(predicate, seconds=10.0):
