@@ -1,6 +1,9 @@
 """Every relative link in the repository's Markdown pages reaches a file or folder in the
 repository, and every #anchor a heading on the page it names (GitHub's heading slugs).
-Links to web pages (http:, https:, mailto:) are not followed. Pure Python: no build."""
+Links to web pages (http:, https:, mailto:) are not followed. Every repository path a page
+names in `code` (`bench/report.py`, `tests/cpp/test_<file>.cpp`) exists too, except in the
+decision records, which are history and may name files that have since gone. Pure
+Python: no build."""
 
 import re
 import sys
@@ -67,6 +70,29 @@ def dead_links(page):
     return dead
 
 
+# A path from the repository root, as pages write them in `code`.
+REPO_PATH = re.compile(r"(?<![\w/.~-])((?:addon|bench|blend_samples|cmake|demo|docs|native|scripts|tests)/"
+                       r"[\w./<>*-]*[\w>*/])")
+# What the repository makes but does not commit (.gitignore): named, never present in a clone.
+MADE_NOT_COMMITTED = (re.compile(r"^bench/results/cache/"), re.compile(r"^blend_samples/[^/]+\.blend$"))
+
+
+def missing_paths(page):
+    """The repository paths the page names in code spans that match no file or folder
+    (a <placeholder> or * matches any name)."""
+    text = FENCE.sub("", page.read_text(encoding="utf-8"))
+    missing = []
+    for span in re.findall(r"`([^`\n]+)`", text):
+        for path in REPO_PATH.findall(span):
+            if any(p.search(path) for p in MADE_NOT_COMMITTED):
+                continue
+            pattern = re.sub(r"<[^>]*>", "*", path).rstrip("/")
+            found = any(ROOT.glob(pattern)) if "*" in pattern else (ROOT / pattern).exists()
+            if not found:
+                missing.append(path)
+    return missing
+
+
 def test_the_pages_are_found():
     names = {p.relative_to(ROOT).as_posix() for p in PAGES}
     assert {"README.md", "docs/design.md", "docs/addon.md", "docs/decisions/README.md"} <= names
@@ -76,6 +102,13 @@ def test_the_pages_are_found():
 def test_relative_links_resolve(page):
     dead = dead_links(page)
     assert not dead, f"{page.relative_to(ROOT)}: " + "; ".join(f"({t}) {why}" for t, why in dead)
+
+
+@pytest.mark.parametrize("page", [p for p in PAGES if "decisions" not in p.parts],
+                         ids=lambda p: p.relative_to(ROOT).as_posix())
+def test_named_repository_paths_exist(page):
+    missing = missing_paths(page)
+    assert not missing, f"{page.relative_to(ROOT)} names what the repository does not hold: {missing}"
 
 
 def test_the_check_finds_a_dead_link(tmp_path, monkeypatch):
@@ -90,6 +123,17 @@ def test_the_check_finds_a_dead_link(tmp_path, monkeypatch):
                         Path.read_bytes(self).decode("utf-8"))
     found = [t for t, _ in dead_links(page)]
     assert found == ["no_such_page.md", "addon.md#no-such-heading", "../../elsewhere/DESIGN.md"]
+
+
+def test_the_check_finds_a_path_that_is_gone(monkeypatch):
+    """A named path that is not there is reported; one that is, a placeholder that matches
+    files, and what the repository makes but does not commit are not."""
+    page = ROOT / "docs" / "design.md"
+    text = ("`bench/report.py`, `tests/cpp/test_<file>.cpp`, `bench/results/cache/meshes/`, "
+            "`PYTHONPATH=build/python python3 bench/no_such_script.py`, `docs/gone/`\n")
+    monkeypatch.setattr(Path, "read_text", lambda self, **kw: text if self == page else
+                        Path.read_bytes(self).decode("utf-8"))
+    assert missing_paths(page) == ["bench/no_such_script.py", "docs/gone/"]
 
 
 if __name__ == "__main__":
