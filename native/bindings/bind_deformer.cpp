@@ -129,7 +129,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
           "solve",
           [](Deformer& d, const TargetsArg& targets_arg, int max_iterations, double tolerance, bool warm_start,
              const OptionalPointsArg& initial_arg, const std::string& acceleration, int anderson_window,
-             int krylov_iterations, int coarse_patches) {
+             int krylov_iterations, int coarse_patches, int coarse_blend) {
             const py::handle& targets = targets_arg.obj;
             const py::handle& initial = initial_arg.obj;
             SolveOptions o;
@@ -140,6 +140,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
             o.anderson_window = anderson_window;
             o.krylov_iterations = krylov_iterations;
             o.coarse_patches = coarse_patches;
+            o.coarse_blend = coarse_blend;
             if (!initial.is_none()) o.initial = to_points(initial, "initial");
             RowMatrixX3d t = to_points(targets, "targets");
             SignalCheck signals;
@@ -157,6 +158,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
           py::arg("anderson_window") = SolveOptions{}.anderson_window,
           py::arg("krylov_iterations") = SolveOptions{}.krylov_iterations,
           py::arg("coarse_patches") = SolveOptions{}.coarse_patches,
+          py::arg("coarse_blend") = SolveOptions{}.coarse_blend,
           R"doc(Deforms the mesh so that the handles reach their targets.
 
 targets: (h, 3) one target per handle, in the order given to set_constraints.
@@ -173,6 +175,8 @@ anderson_window: how many past iterates Anderson acceleration combines (1..50).
 krylov_iterations: most Krylov products per Newton step (1..500).
 coarse_patches: about how many patches the Newton preconditioner's coarse space has
     (0: none; 0..5000).
+coarse_blend: smoothing steps that blend those patches into a partition of unity (0: disjoint
+    patches; 0..100).
 Returns a SolveResult. Ctrl-C raises KeyboardInterrupt between iterations and leaves the
 Deformer usable.)doc")
       .def(
@@ -228,9 +232,13 @@ Deformer usable.)doc")
            },
            py::arg("X"), py::arg("dX"), py::arg("newton_operator") = false,
            "J_G dX at X (analytic), or K dX = A (I - J_G) dX with newton_operator")
-      .def("_coarse_basis_coo", [](Deformer& d, int patches) { return to_coo(d.coarse_basis_matrix(patches)); })
+      .def("_coarse_basis_coo", [](Deformer& d, int patches, int blend) { return to_coo(d.coarse_basis_matrix(patches, blend)); },
+           py::arg("patches"), py::arg("blend") = 0)
       .def("_coarse_operator_coo",
-           [](Deformer& d, const py::handle& X, int patches) { return to_coo(d.coarse_operator_at(to_points(X, "X"), patches)); });
+           [](Deformer& d, const py::handle& X, int patches, int blend) {
+             return to_coo(d.coarse_operator_at(to_points(X, "X"), patches, blend));
+           },
+           py::arg("X"), py::arg("patches"), py::arg("blend") = 0);
 }
 
 }  // namespace edgedeform::bindings

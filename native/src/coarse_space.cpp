@@ -95,8 +95,63 @@ std::vector<int> grow_patches(const FreeGraph& g, int nf, int n_patches, int& ma
 
 }  // namespace
 
+namespace {
+
+// Partition-of-unity weights below this are dropped (and the rest renormalized): they would
+// widen every vertex's entries for a jump of at most this size.
+constexpr double kBlendDrop = 1e-3;
+
+// Per free vertex, its (patch, weight) pairs after `steps` smoothing steps of the patch
+// indicators, w <- (w + mean of the neighbours' w) / 2 over the free vertices' edges, then
+// normalized to sum to one. Sorted by patch: deterministic.
+std::vector<std::vector<std::pair<int, double>>> blend_weights(const FreeGraph& g, const std::vector<int>& patch,
+                                                               int n_patches, int steps) {
+  const auto nf = patch.size();
+  std::vector<std::vector<std::pair<int, double>>> w(nf), next(nf);
+  for (size_t v = 0; v < nf; ++v) w[v] = {{patch[v], 1.0}};
+  std::vector<double> sum(static_cast<size_t>(n_patches), 0.0);
+  std::vector<int> touched;
+  auto add = [&](const std::vector<std::pair<int, double>>& from, double scale) {
+    for (const auto& [p, x] : from) {
+      if (sum[static_cast<size_t>(p)] == 0.0) touched.push_back(p);
+      sum[static_cast<size_t>(p)] += scale * x;
+    }
+  };
+  for (int step = 0; step < steps; ++step) {
+    for (size_t v = 0; v < nf; ++v) {
+      touched.clear();
+      const int begin = g.offsets[v], end = g.offsets[v + 1];
+      add(w[v], end > begin ? 0.5 : 1.0);
+      for (int k = begin; k < end; ++k) add(w[static_cast<size_t>(g.adjacency[static_cast<size_t>(k)])], 0.5 / (end - begin));
+      std::sort(touched.begin(), touched.end());
+      next[v].clear();
+      for (int p : touched) {
+        next[v].emplace_back(p, sum[static_cast<size_t>(p)]);
+        sum[static_cast<size_t>(p)] = 0.0;
+      }
+    }
+    w.swap(next);
+  }
+  for (auto& entries : w) {
+    double total = 0.0;
+    for (const auto& e : entries) total += e.second;
+    double kept = 0.0;
+    std::vector<std::pair<int, double>> big;
+    for (const auto& e : entries)
+      if (e.second >= kBlendDrop * total) {
+        big.push_back(e);
+        kept += e.second;
+      }
+    for (auto& e : big) e.second /= kept;
+    entries.swap(big);
+  }
+  return w;
+}
+
+}  // namespace
+
 CoarseBasis build_coarse_basis(const ConstrainedSystem& sys, const RowMatrixX3d& rest, const RowMatrixX2i& edges,
-                               int target_patches) {
+                               int target_patches, int blend_steps) {
   CoarseBasis basis;
   const int nf = sys.n_free();
   const int n_patches = std::min(target_patches, nf / kMinPatchVertices);
@@ -144,55 +199,90 @@ CoarseBasis build_coarse_basis(const ConstrainedSystem& sys, const RowMatrixX3d&
   }
   basis.offset.assign(P + 1, 0);
   for (size_t p = 0; p < P; ++p) basis.offset[p + 1] = basis.offset[p] + 3 * basis.functions[p];
-  basis.value.assign(static_cast<size_t>(nf), Eigen::Vector4d::Zero());
+  const auto weights = blend_weights(graph, basis.patch, basis.n_patches, std::max(blend_steps, 0));
+  basis.entry_offset.assign(static_cast<size_t>(nf) + 1, 0);
   for (int v = 0; v < nf; ++v) {
-    const auto p = static_cast<size_t>(basis.patch[static_cast<size_t>(v)]);
-    const Eigen::Vector3d d = rest.row(sys.free_vertices[static_cast<size_t>(v)]).transpose() - basis.centre[p];
-    Eigen::Vector4d& phi = basis.value[static_cast<size_t>(v)];
-    phi(0) = 1.0;
-    for (int f = 1; f < basis.functions[p]; ++f) phi(f) = d.dot(basis.axes[p].col(f - 1)) / basis.scale[p](f - 1);
+    const Eigen::Vector3d x = rest.row(sys.free_vertices[static_cast<size_t>(v)]).transpose();
+    for (const auto& [p, w] : weights[static_cast<size_t>(v)]) {
+      const auto q = static_cast<size_t>(p);
+      Eigen::Vector4d phi = Eigen::Vector4d::Zero();
+      phi(0) = w;
+      for (int f = 1; f < basis.functions[q]; ++f) phi(f) = w * (x - basis.centre[q]).dot(basis.axes[q].col(f - 1)) / basis.scale[q](f - 1);
+      basis.entry_patch.push_back(p);
+      basis.entry_value.push_back(phi);
+    }
+    basis.entry_offset[static_cast<size_t>(v) + 1] = static_cast<int>(basis.entry_patch.size());
   }
   return basis;
 }
 
 void restrict_to_coarse(const CoarseBasis& b, const Eigen::MatrixXd& x, Eigen::VectorXd& q) {
   q.setZero(b.dimension());
-  for (Eigen::Index v = 0; v < x.rows(); ++v) {
-    const auto p = static_cast<size_t>(b.patch[static_cast<size_t>(v)]);
-    const Eigen::Vector4d& phi = b.value[static_cast<size_t>(v)];
-    for (int f = 0; f < b.functions[p]; ++f)
-      for (int c = 0; c < 3; ++c) q(b.offset[p] + 3 * f + c) += phi(f) * x(v, c);
-  }
+  for (Eigen::Index v = 0; v < x.rows(); ++v)
+    for (int e = b.entry_offset[static_cast<size_t>(v)]; e < b.entry_offset[static_cast<size_t>(v) + 1]; ++e) {
+      const auto p = static_cast<size_t>(b.entry_patch[static_cast<size_t>(e)]);
+      const Eigen::Vector4d& phi = b.entry_value[static_cast<size_t>(e)];
+      for (int f = 0; f < b.functions[p]; ++f)
+        for (int c = 0; c < 3; ++c) q(b.offset[p] + 3 * f + c) += phi(f) * x(v, c);
+    }
 }
 
 void prolong_from_coarse(const CoarseBasis& b, const Eigen::VectorXd& q, Eigen::MatrixXd& x) {
-  const auto nf = static_cast<Eigen::Index>(b.patch.size());
+  const auto nf = static_cast<Eigen::Index>(b.n_free());
   x.setZero(nf, 3);
-  for (Eigen::Index v = 0; v < nf; ++v) {
-    const auto p = static_cast<size_t>(b.patch[static_cast<size_t>(v)]);
-    const Eigen::Vector4d& phi = b.value[static_cast<size_t>(v)];
-    for (int f = 0; f < b.functions[p]; ++f)
-      for (int c = 0; c < 3; ++c) x(v, c) += phi(f) * q(b.offset[p] + 3 * f + c);
-  }
+  for (Eigen::Index v = 0; v < nf; ++v)
+    for (int e = b.entry_offset[static_cast<size_t>(v)]; e < b.entry_offset[static_cast<size_t>(v) + 1]; ++e) {
+      const auto p = static_cast<size_t>(b.entry_patch[static_cast<size_t>(e)]);
+      const Eigen::Vector4d& phi = b.entry_value[static_cast<size_t>(e)];
+      for (int f = 0; f < b.functions[p]; ++f)
+        for (int c = 0; c < 3; ++c) x(v, c) += phi(f) * q(b.offset[p] + 3 * f + c);
+    }
+}
+
+namespace {
+// The scalar basis: column 4 p + f is w_p phi_pf over the free vertices (f < functions[p]).
+SparseMatrix scalar_basis(const CoarseBasis& b) {
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(b.entry_value.size() * 4);
+  for (int v = 0; v < b.n_free(); ++v)
+    for (int e = b.entry_offset[static_cast<size_t>(v)]; e < b.entry_offset[static_cast<size_t>(v) + 1]; ++e) {
+      const int p = b.entry_patch[static_cast<size_t>(e)];
+      for (int f = 0; f < b.functions[static_cast<size_t>(p)]; ++f)
+        entries.emplace_back(v, 4 * p + f, b.entry_value[static_cast<size_t>(e)](f));
+    }
+  SparseMatrix S(b.n_free(), 4 * b.n_patches);
+  S.setFromTriplets(entries.begin(), entries.end());
+  return S;
+}
+}  // namespace
+
+SparseMatrix coarse_basis_matrix(const CoarseBasis& b) {
+  const int nf = b.n_free();
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int v = 0; v < nf; ++v)
+    for (int e = b.entry_offset[static_cast<size_t>(v)]; e < b.entry_offset[static_cast<size_t>(v) + 1]; ++e) {
+      const auto p = static_cast<size_t>(b.entry_patch[static_cast<size_t>(e)]);
+      for (int f = 0; f < b.functions[p]; ++f)
+        for (int c = 0; c < 3; ++c) entries.emplace_back(v + nf * c, b.offset[p] + 3 * f + c, b.entry_value[static_cast<size_t>(e)](f));
+    }
+  SparseMatrix U(3 * nf, b.dimension());
+  U.setFromTriplets(entries.begin(), entries.end());
+  return U;
 }
 
 SparseMatrix coarse_stiffness(const CoarseBasis& b, const SparseMatrix& A) {
+  // A acts on each coordinate alike: U^T A U is S^T A S (S the scalar basis) on each.
+  const SparseMatrix S = scalar_basis(b);
+  const SparseMatrix SAS = SparseMatrix(S.transpose()) * (A * S);  // sequential products: a fixed order
   std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(static_cast<size_t>(A.nonZeros()) * 12);
-  for (int w = 0; w < A.outerSize(); ++w) {
-    const auto q = static_cast<size_t>(b.patch[static_cast<size_t>(w)]);
-    for (SparseMatrix::InnerIterator it(A, w); it; ++it) {
-      const auto v = static_cast<size_t>(it.row());
-      const auto p = static_cast<size_t>(b.patch[v]);
-      for (int f = 0; f < b.functions[p]; ++f)
-        for (int g = 0; g < b.functions[q]; ++g) {
-          const double value = b.value[v](f) * it.value() * b.value[static_cast<size_t>(w)](g);
-          for (int c = 0; c < 3; ++c) entries.emplace_back(b.offset[p] + 3 * f + c, b.offset[q] + 3 * g + c, value);
-        }
+  entries.reserve(static_cast<size_t>(SAS.nonZeros()) * 3);
+  for (int col = 0; col < SAS.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(SAS, col); it; ++it) {
+      const int p = static_cast<int>(it.row()) / 4, f = static_cast<int>(it.row()) % 4, q = col / 4, g = col % 4;
+      for (int c = 0; c < 3; ++c) entries.emplace_back(b.offset[static_cast<size_t>(p)] + 3 * f + c, b.offset[static_cast<size_t>(q)] + 3 * g + c, it.value());
     }
-  }
   SparseMatrix C(b.dimension(), b.dimension());
-  C.setFromTriplets(entries.begin(), entries.end());  // duplicates summed in entry order
+  C.setFromTriplets(entries.begin(), entries.end());
   return C;
 }
 
@@ -265,9 +355,13 @@ SparseMatrix coarse_operator(const CoarseBasis& b, const SparseMatrix& coarse_A,
       term_inputs(sys, t, vertex, m);
       in_p.clear();
       out_p.clear();
-      for (int w : vertex) in_p.push_back(b.patch[static_cast<size_t>(w)]);
+      const auto entries_of = [&](int v, std::vector<int>& into) {
+        for (int e = b.entry_offset[static_cast<size_t>(v)]; e < b.entry_offset[static_cast<size_t>(v) + 1]; ++e)
+          into.push_back(b.entry_patch[static_cast<size_t>(e)]);
+      };
+      for (int w : vertex) entries_of(w, in_p);
       for (int k = term_offset[static_cast<size_t>(t)]; k < term_offset[static_cast<size_t>(t) + 1]; ++k)
-        out_p.push_back(b.patch[static_cast<size_t>(block_row[static_cast<size_t>(term_block[static_cast<size_t>(k)])])]);
+        entries_of(block_row[static_cast<size_t>(term_block[static_cast<size_t>(k)])], out_p);
       for (int p : out_p)
         for (int q : in_p) {
           int& s = slot_of[static_cast<size_t>(p) * static_cast<size_t>(P) + static_cast<size_t>(q)];
@@ -296,18 +390,22 @@ SparseMatrix coarse_operator(const CoarseBasis& b, const SparseMatrix& coarse_A,
         in_patch.clear();
         for (size_t k = 0; k < vertex.size(); ++k) {
           const int w = vertex[k];
-          const int q = b.patch[static_cast<size_t>(w)];
-          size_t slot = 0;
-          while (slot < in_patch.size() && in_patch[slot].first != q) ++slot;
-          if (slot == in_patch.size()) in_patch.emplace_back(q, Eigen::Matrix<double, 4, 12>::Zero());
-          for (int c = 0; c < 3; ++c) {  // response to dx_w = e_c
+          Eigen::Matrix<double, 4, 3> response;  // column c: the fit's response to dx_w = e_c
+          for (int c = 0; c < 3; ++c) {
             const Eigen::Matrix3d dS = m[k] * Eigen::RowVector3d::Unit(c);
             Eigen::Vector3d omega;
             double ds = 0.0;
             fit_response(R, fl.omega_map[static_cast<size_t>(t)], fl.scale_gain(t), dS, omega, ds);
-            const Eigen::Vector4d response(omega(0), omega(1), omega(2), ds);
+            response.col(c) << omega(0), omega(1), omega(2), ds;
+          }
+          for (int e = b.entry_offset[static_cast<size_t>(w)]; e < b.entry_offset[static_cast<size_t>(w) + 1]; ++e) {
+            const int q = b.entry_patch[static_cast<size_t>(e)];
+            size_t slot = 0;
+            while (slot < in_patch.size() && in_patch[slot].first != q) ++slot;
+            if (slot == in_patch.size()) in_patch.emplace_back(q, Eigen::Matrix<double, 4, 12>::Zero());
+            const Eigen::Vector4d& phi = b.entry_value[static_cast<size_t>(e)];
             for (int f = 0; f < b.functions[static_cast<size_t>(q)]; ++f)
-              in_patch[slot].second.col(3 * f + c) += b.value[static_cast<size_t>(w)](f) * response;
+              in_patch[slot].second.middleCols<3>(3 * f) += phi(f) * response;
           }
         }
         out_patch.clear();
@@ -321,12 +419,15 @@ SparseMatrix coarse_operator(const CoarseBasis& b, const SparseMatrix& coarse_A,
           O << 0, Rg(2), -Rg(1), Rk(0),   //
               -Rg(2), 0, Rg(0), Rk(1),    //
               Rg(1), -Rg(0), 0, Rk(2);
-          const int p = b.patch[static_cast<size_t>(r)];
-          size_t slot = 0;
-          while (slot < out_patch.size() && out_patch[slot].first != p) ++slot;
-          if (slot == out_patch.size()) out_patch.emplace_back(p, Eigen::Matrix<double, 12, 4>::Zero());
-          for (int f = 0; f < b.functions[static_cast<size_t>(p)]; ++f)
-            out_patch[slot].second.middleRows<3>(3 * f) += b.value[static_cast<size_t>(r)](f) * O;
+          for (int e = b.entry_offset[static_cast<size_t>(r)]; e < b.entry_offset[static_cast<size_t>(r) + 1]; ++e) {
+            const int p = b.entry_patch[static_cast<size_t>(e)];
+            size_t slot = 0;
+            while (slot < out_patch.size() && out_patch[slot].first != p) ++slot;
+            if (slot == out_patch.size()) out_patch.emplace_back(p, Eigen::Matrix<double, 12, 4>::Zero());
+            const Eigen::Vector4d& phi = b.entry_value[static_cast<size_t>(e)];
+            for (int f = 0; f < b.functions[static_cast<size_t>(p)]; ++f)
+              out_patch[slot].second.middleRows<3>(3 * f) += phi(f) * O;
+          }
         }
         for (const auto& [p, out] : out_patch)
           for (const auto& [q, in] : in_patch)

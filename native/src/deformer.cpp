@@ -35,6 +35,8 @@ void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX
     throw std::invalid_argument("krylov_iterations must be in [1, 500], got " + std::to_string(o.krylov_iterations));
   if (o.coarse_patches < 0 || o.coarse_patches > 5000)
     throw std::invalid_argument("coarse_patches must be in [0, 5000], got " + std::to_string(o.coarse_patches));
+  if (o.coarse_blend < 0 || o.coarse_blend > 100)
+    throw std::invalid_argument("coarse_blend must be in [0, 100], got " + std::to_string(o.coarse_blend));
   if (o.max_iterations < 1)
     throw std::invalid_argument("max_iterations must be at least 1, got " + std::to_string(o.max_iterations));
   if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance))

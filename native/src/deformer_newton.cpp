@@ -15,11 +15,12 @@ using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
 }  // namespace
 
-const CoarseBasis* Deformer::coarse_basis(int patches) {
+const CoarseBasis* Deformer::coarse_basis(int patches, int blend) {
   if (patches <= 0) return nullptr;
-  if (!coarse_basis_ || coarse_basis_patches_ != patches) {
-    coarse_basis_ = std::make_shared<const CoarseBasis>(build_coarse_basis(*system_, rest_, topology_.edges, patches));
+  if (!coarse_basis_ || coarse_basis_patches_ != patches || coarse_basis_blend_ != blend) {
+    coarse_basis_ = std::make_shared<const CoarseBasis>(build_coarse_basis(*system_, rest_, topology_.edges, patches, blend));
     coarse_basis_patches_ = patches;
+    coarse_basis_blend_ = blend;
     coarse_stiffness_valid_ = false;
     coarse_correction_ = CoarseCorrection();
   }
@@ -81,7 +82,7 @@ void Deformer::iterate_newton(const SolveOptions& options, const Eigen::MatrixXd
   // previous step, then a plain step).
   if (!it.continuable || !it.newton_valid) it.newton.reset(2, settings.descent);
   it.newton_valid = true;
-  settings.coarse = coarse_basis(options.coarse_patches);
+  settings.coarse = coarse_basis(options.coarse_patches, options.coarse_blend);
   if (settings.coarse) {
     settings.coarse_stiffness = &coarse_stiffness_matrix();
     settings.coarse_correction = &coarse_correction_;
@@ -148,37 +149,22 @@ Eigen::MatrixXd Deformer::jacobian_product(const RowMatrixX3d& X, const Eigen::M
   return out;
 }
 
-namespace {
-SparseMatrix basis_matrix(const CoarseBasis& b) {
-  const auto nf = static_cast<int>(b.patch.size());
-  std::vector<Eigen::Triplet<double>> entries;
-  for (int v = 0; v < nf; ++v) {
-    const auto p = static_cast<size_t>(b.patch[static_cast<size_t>(v)]);
-    for (int f = 0; f < b.functions[p]; ++f)
-      for (int c = 0; c < 3; ++c) entries.emplace_back(v + nf * c, b.offset[p] + 3 * f + c, b.value[static_cast<size_t>(v)](f));
-  }
-  SparseMatrix U(3 * nf, b.dimension());
-  U.setFromTriplets(entries.begin(), entries.end());
-  return U;
-}
-}  // namespace
-
-SparseMatrix Deformer::coarse_basis_matrix(int patches) {
+SparseMatrix Deformer::coarse_basis_matrix(int patches, int blend) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!system_) throw std::invalid_argument("set_constraints(handles=...) must be called first");
   if (patches < 1) throw std::invalid_argument("patches must be at least 1");
-  const CoarseBasis* b = coarse_basis(patches);
+  const CoarseBasis* b = coarse_basis(patches, blend);
   if (!b) return SparseMatrix(3 * system_->n_free(), 0);
-  return basis_matrix(*b);
+  return edgedeform::coarse_basis_matrix(*b);
 }
 
-SparseMatrix Deformer::coarse_operator_at(const RowMatrixX3d& X, int patches) {
+SparseMatrix Deformer::coarse_operator_at(const RowMatrixX3d& X, int patches, int blend) {
   std::lock_guard<std::mutex> lock(mutex_);
   RowMatrixX3d x_local;
   LocalFit fit;
   prepare_point(X, x_local, fit);
   if (patches < 1) throw std::invalid_argument("patches must be at least 1");
-  const CoarseBasis* b = coarse_basis(patches);
+  const CoarseBasis* b = coarse_basis(patches, blend);
   if (!b) return SparseMatrix(0, 0);
   const FixedPointLinearization lin(*system_, *assembled_, fit, node_positions_);
   return coarse_operator(*b, coarse_stiffness_matrix(), lin);

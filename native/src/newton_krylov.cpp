@@ -159,11 +159,17 @@ void newton_krylov_solve(FixedPointProblem& problem, const NewtonSettings& s, It
     if (coarse && s.coarse && s.coarse_stiffness) {
       const bool shift_moved = coarse_shift < 0.0 || (step_shift == 0.0) != (coarse_shift == 0.0) ||
                                std::max(step_shift, coarse_shift) > kCoarseShiftRatio * std::min(step_shift, coarse_shift);
-      if (!coarse->ready() || ++coarse_age >= kCoarseLag || shift_moved) {
-        SparseMatrix C = coarse_operator(*s.coarse, *s.coarse_stiffness, *lin);
+      // Assembly (the costly part) follows the linearization, lagged; a new shift alone
+      // only refactors the assembled operator plus shift * U^T A U.
+      const bool reassemble = memory.coarse_unshifted.rows() == 0 || !coarse->ready() || ++coarse_age >= kCoarseLag;
+      if (reassemble) {
+        memory.coarse_unshifted = coarse_operator(*s.coarse, *s.coarse_stiffness, *lin);
+        coarse_age = 0;
+      }
+      if (reassemble || shift_moved) {
+        SparseMatrix C = memory.coarse_unshifted;
         if (step_shift > 0.0) C += step_shift * *s.coarse_stiffness;
         if (coarse->factor(*s.coarse, C)) ++result.coarse_factorizations;
-        coarse_age = 0;
         coarse_shift = step_shift;
       }
     }

@@ -97,9 +97,11 @@ TEST(CoarseSpace, RestrictionIsTheProlongationsTransposeAndTheBasisHasFullRank) 
   EXPECT_EQ(b.dimension(), 12 * b.n_patches);
 }
 
-TEST(CoarseSpace, CoarseStiffnessIsUTransposeAU) {
+class CoarseStiffness : public ::testing::TestWithParam<int> {};  // blend steps
+
+TEST_P(CoarseStiffness, IsUTransposeAU) {
   GridLift s;
-  const CoarseBasis b = build_coarse_basis(s.system, s.mesh.V, s.topology.edges, 6);
+  const CoarseBasis b = build_coarse_basis(s.system, s.mesh.V, s.topology.edges, 6, GetParam());
   const AssembledSystem as = assemble_system(s.system, Eigen::VectorXd::Constant(s.graph.n_nodes, 0.5));
   const int nf = s.system.n_free();
   Eigen::MatrixXd A3 = Eigen::MatrixXd::Zero(3 * nf, 3 * nf);
@@ -109,6 +111,53 @@ TEST(CoarseSpace, CoarseStiffnessIsUTransposeAU) {
   const Eigen::MatrixXd expected = U.transpose() * A3 * U;
   const Eigen::MatrixXd got = Eigen::MatrixXd(coarse_stiffness(b, as.A));
   EXPECT_LE((got - expected).cwiseAbs().maxCoeff(), 1e-10 * expected.cwiseAbs().maxCoeff());
+}
+
+INSTANTIATE_TEST_SUITE_P(Blend, CoarseStiffness, ::testing::Values(0, 3));
+
+// The blended basis: a partition of unity over the free vertices (weights sum to one, the
+// patches overlap), so U still spans every affine motion exactly and has full rank; with
+// no blending it is the disjoint basis, one weight-1 entry per vertex.
+TEST(CoarseSpace, BlendedPatchesArePartitionOfUnityAndSpanAffineMotions) {
+  GridLift s;
+  const int nf = s.system.n_free();
+  const CoarseBasis disjoint = build_coarse_basis(s.system, s.mesh.V, s.topology.edges, 12, 0);
+  ASSERT_EQ(disjoint.entry_patch.size(), static_cast<size_t>(nf));
+  for (int v = 0; v < nf; ++v) {
+    EXPECT_EQ(disjoint.entry_patch[static_cast<size_t>(v)], disjoint.patch[static_cast<size_t>(v)]);
+    EXPECT_EQ(disjoint.entry_value[static_cast<size_t>(v)](0), 1.0);
+  }
+  const CoarseBasis b = build_coarse_basis(s.system, s.mesh.V, s.topology.edges, 12, 4);
+  EXPECT_EQ(b.dimension(), disjoint.dimension());
+  int shared = 0;
+  for (int v = 0; v < nf; ++v) {
+    double total = 0.0;
+    int last = -1;
+    for (int e = b.entry_offset[static_cast<size_t>(v)]; e < b.entry_offset[static_cast<size_t>(v) + 1]; ++e) {
+      total += b.entry_value[static_cast<size_t>(e)](0);
+      EXPECT_GT(b.entry_patch[static_cast<size_t>(e)], last);  // sorted, no repeats
+      last = b.entry_patch[static_cast<size_t>(e)];
+    }
+    EXPECT_NEAR(total, 1.0, 1e-12);
+    shared += b.entry_offset[static_cast<size_t>(v) + 1] - b.entry_offset[static_cast<size_t>(v)] > 1;
+  }
+  EXPECT_GT(shared, nf / 4);  // the borders are blended
+  const Eigen::MatrixXd U = dense_basis(b);
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(U);
+  EXPECT_EQ(lu.rank(), b.dimension());
+  // A global affine motion of the free vertices lies in the span.
+  Eigen::Matrix3d M;
+  M << 0.3, -1.2, 0.5, 0.7, 0.1, -0.4, 1.1, 0.2, 0.9;
+  const Eigen::RowVector3d t(0.2, -0.5, 1.0);
+  Eigen::MatrixXd x(nf, 3);
+  for (int v = 0; v < nf; ++v) x.row(v) = s.mesh.V.row(s.system.free_vertices[static_cast<size_t>(v)]) * M.transpose() + t;
+  const Eigen::VectorXd flat = Eigen::Map<const Eigen::VectorXd>(x.data(), x.size());
+  const Eigen::VectorXd fitted = U * U.colPivHouseholderQr().solve(flat);
+  EXPECT_LE((fitted - flat).norm(), 1e-10 * flat.norm());
+  // restrict is prolong's transpose here too
+  Eigen::VectorXd q;
+  restrict_to_coarse(b, x, q);
+  EXPECT_LE((q - U.transpose() * flat).norm(), 1e-12 * q.norm());
 }
 
 TEST(CoarseSpace, TooFewFreeVerticesGiveNoCoarseSpace) {

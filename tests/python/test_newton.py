@@ -98,18 +98,19 @@ def test_newton_operator_is_symmetric_at_lambda_1():
     assert abs(np.sum(v * Ku) - np.sum(u * Kv)) > 1e-6 * abs(np.sum(v * Ku))
 
 
-def test_coarse_operator_is_the_galerkin_product():
+@pytest.mark.parametrize("blend", (0, 3))
+def test_coarse_operator_is_the_galerkin_product(blend):
     d, V, F, t = _deformer(SPOT, "edge", 0.5)
     X = d.solve(t, max_iterations=20).positions
     free = np.array(d.free_vertices)
     nf = len(free)
-    ur, uc, uv, ushape = d._coarse_basis_coo(8)
+    ur, uc, uv, ushape = d._coarse_basis_coo(8, blend)
     U = np.zeros(ushape)
     np.add.at(U, (ur, uc), uv)
     assert U.shape[1] > 0
     KU = np.column_stack([_flat(d._jacobian(X, U[:, j].reshape(3, nf).T.copy(), True)) for j in range(U.shape[1])])
     dense = U.T @ KU
-    cr, cc, cv, cshape = d._coarse_operator_coo(X, 8)
+    cr, cc, cv, cshape = d._coarse_operator_coo(X, 8, blend)
     C = np.zeros(cshape)
     np.add.at(C, (cr, cc), cv)
     assert np.abs(C - dense).max() <= 1e-9 * np.abs(dense).max()

@@ -38,9 +38,11 @@ struct SolveOptions {
   Acceleration acceleration = Acceleration::Anderson;
   int anderson_window = 5;
   // Newton-Krylov (newton_krylov.h): most Krylov products per Newton step, and about how
-  // many patches the coarse space has (0: none, the one-level preconditioner).
+  // many patches the coarse space has (0: none, the one-level preconditioner), and how many
+  // smoothing steps blend the patches into a partition of unity (coarse_space.h).
   int krylov_iterations = 30;
   int coarse_patches = 200;
+  int coarse_blend = 0;
   // Asked once per iteration (called from the solving thread); returning true stops the
   // solve with SolveInterrupted. The Python bindings check for Ctrl-C here, so the core
   // needs no Python.
@@ -95,8 +97,8 @@ class Deformer {
   // J_G dX, or K dX = A (I - J_G) dX with `newton_operator`.
   Eigen::MatrixXd jacobian_product(const RowMatrixX3d& X, const Eigen::MatrixXd& dX, bool newton_operator);
   // U (3 #free x k; row v + #free c is coordinate c of free vertex v), and U^T K U at X.
-  SparseMatrix coarse_basis_matrix(int patches);
-  SparseMatrix coarse_operator_at(const RowMatrixX3d& X, int patches);
+  SparseMatrix coarse_basis_matrix(int patches, int blend = 0);
+  SparseMatrix coarse_operator_at(const RowMatrixX3d& X, int patches, int blend = 0);
   const std::vector<int>& free_vertices() const;
 
   int n_vertices() const { return static_cast<int>(rest_.rows()); }
@@ -143,7 +145,7 @@ class Deformer {
                       SolveResult& result);
   // The coarse space of the current constraint set and U^T A U at the current operators,
   // built on first use; null for none (patches = 0 or too few free vertices).
-  const CoarseBasis* coarse_basis(int patches);
+  const CoarseBasis* coarse_basis(int patches, int blend);
   const SparseMatrix& coarse_stiffness_matrix();
   // One global step: G's image of the fit, written to g (free vertices).
   void global_step(const LocalFit& fit, const Eigen::MatrixXd& c, Eigen::MatrixXd& g, SolveResult& result);
@@ -220,7 +222,7 @@ class Deformer {
   // The coarse space: its basis per constraint set (and patch count), U^T A U per factored
   // operators. Stale when the constraints (basis) or the operators (stiffness) change.
   std::shared_ptr<const CoarseBasis> coarse_basis_;
-  int coarse_basis_patches_ = -1;
+  int coarse_basis_patches_ = -1, coarse_basis_blend_ = -1;
   SparseMatrix coarse_stiffness_;
   bool coarse_stiffness_valid_ = false;
   CoarseCorrection coarse_correction_;  // its symbolic analysis lasts as long as the basis

@@ -55,8 +55,9 @@ struct NewtonMemory {
   double last_exact_step = std::numeric_limits<double>::infinity();  // of the last full Newton step, / diag
   double shift = 0.0;         // Levenberg-Marquardt shift (relative to A)
   bool near_minimum = false;  // lambda = 1: the true Hessian instead of the positive model
-  int coarse_age = 1 << 20;   // Newton steps since the coarse operator was factored
+  int coarse_age = 1 << 20;   // Newton steps since the coarse operator was assembled
   double coarse_shift = -1.0; // the shift it was factored with
+  SparseMatrix coarse_unshifted;  // U^T K U as last assembled (without the shift)
   // Starts afresh: `plain_steps` plain steps first; at lambda < 1 there is no positive model.
   void reset(int plain_steps, bool descent) {
     *this = NewtonMemory();
