@@ -7,7 +7,8 @@ Per cell (mesh, edit, domain; the lambda = 1 solution is the reference):
    free coordinates, ordered all x, then all y, then all z, as the coarse basis's rows
    v + nf c); counts above 0.9 / 0.99 / 0.999 / 1 and the band's density (how many lie
    within 1e-3, 1e-2, 1e-1 of 1), and each Ritz pair's residual |J v - mu v| / |v|;
-2. capture: for each affine-patch coarse space U (Deformer._coarse_basis_coo), the part of
+2. capture: for each affine-patch coarse space U (Deformer._coarse_basis_coo; "P:S" is P
+   patches blended into a partition of unity by S smoothing steps), the part of
    each top eigenvector that U misses, |(I - P_U) v| / |v|, in the Euclidean norm, in the A
    norm (A = the global step's matrix over the free vertices; at lambda = 1 it is
    2 (N^T L N) restricted to the free vertices, an identity the script checks against
@@ -28,7 +29,7 @@ Per cell (mesh, edit, domain; the lambda = 1 solution is the reference):
 
     PYTHONPATH=build/python nice /usr/bin/python3 bench/bench_newton_diagnostics.py
         [--cells koala.obj:lift:edge,spot.obj:lift:edge] [--eigenvalues 50]
-        [--patches 100,200,400] [--json bench/results/newton_diagnostics.json]
+        [--patches 100,200,400,200:16] [--json bench/results/newton_diagnostics.json]
     .../bench_newton_diagnostics.py --plot-only bench/results/newton_diagnostics.json
 Writes the JSON and a PNG beside it (matplotlib here, or in --plot-python's interpreter).
 """
@@ -181,7 +182,7 @@ def eigen_planes(mu, vecs):
 
 def orthonormal_blocks(U):
     """(Q, T): Q = U T with orthonormal columns, T block-diagonal over the blocks of U^T U
-    (disjoint patches, so each block is small); directions with singular value below 1e-10
+    (disjoint patches: small blocks; blended ones overlap into larger ones); directions with singular value below 1e-10
     of the block's largest (all-constrained or flat patches) are dropped."""
     G = (U.T @ U).tocsr()
     n_blocks, label = csgraph.connected_components(G, directed=False)
@@ -221,12 +222,12 @@ class CoarseSpace:
     """The affine-patch space U of `patches` patches, orthonormalized (Q = U T), with the
     projections onto it in the Euclidean, A and K inner products."""
 
-    def __init__(self, d, X, A3, patches):
-        U = coo_matrix(d._coarse_basis_coo(patches)).tocsc()
+    def __init__(self, d, X, A3, patches, blend=0):
+        U = coo_matrix(d._coarse_basis_coo(patches, blend)).tocsc()
         self.Q, T, self.gram_blocks = orthonormal_blocks(U)
         self.columns, self.A3 = int(U.shape[1]), A3
         self.lu_A = spla.splu((self.Q.T @ (A3 @ self.Q)).tocsc())
-        C = coo_matrix(d._coarse_operator_coo(X, patches))         # the core's U^T K U
+        C = coo_matrix(d._coarse_operator_coo(X, patches, blend))  # the core's U^T K U
         self.operator_check = coarse_operator_error(d, X, U, C)
         QK = (T.T @ C @ T).toarray()
         self.asymmetry = float(np.abs(QK - QK.T).max() / np.abs(QK).max())
@@ -251,9 +252,9 @@ class CoarseSpace:
         return float(np.sqrt(max(rest, 0.0) / whole)) if whole > 0 else float("nan")
 
 
-def capture(space, planes, K_planes, patches, log):
+def capture(space, planes, K_planes, patches, log, blend=0):
     t0 = time.perf_counter()
-    row = {"patches_requested": patches, "basis_columns": space.columns,
+    row = {"patches_requested": patches, "blend": blend, "basis_columns": space.columns,
            "rank": int(space.Q.shape[1]), "gram_blocks": int(space.gram_blocks),
            "coarse_operator_check": space.operator_check, "coarse_asymmetry": space.asymmetry, "coarse_min_eigenvalue_rel": space.min_eigenvalue_rel}
     fractions = {"euclidean": [space.miss_euclidean(W) for W in planes],
@@ -266,7 +267,7 @@ def capture(space, planes, K_planes, patches, log):
         for top in (10, 50):
             row[f"{name}_top{top}_median"] = float(np.median(f[:top]))
             row[f"{name}_top{top}_max"] = float(np.max(f[:top]))
-    log(f"  capture {patches} patches ({row['rank']} columns): miss median/max top 10: Euclidean "
+    log(f"  capture {patches} patches, blend {blend} ({row['rank']} columns): miss median/max top 10: Euclidean "
         f"{row['euclidean_top10_median']:.3f}/{row['euclidean_top10_max']:.3f}, A "
         f"{row['A_top10_median']:.3f}/{row['A_top10_max']:.3f}, K {row['K_top10_median']:.3f}/"
         f"{row['K_top10_max']:.3f}")
@@ -466,8 +467,8 @@ def run_cell(ed, cell, args, log):
     planes = eigen_planes(mu, vecs)
     K_planes = [np.column_stack([to_flat(d._jacobian(X, to_points(W[:, c], nf), True))
                                  for c in range(W.shape[1])]) for W in planes]
-    row["capture"] = [capture(CoarseSpace(d, X, A3, k), planes, K_planes, k, log)
-                      for k in args.patches]
+    row["capture"] = [capture(CoarseSpace(d, X, A3, k, blend), planes, K_planes, k, log, blend)
+                      for k, blend in args.patches]
     if args.safeguard_iterations:
         row["safeguard"] = [safeguard(p, lam, args.safeguard_iterations, nf <= args.dense_check_max_free)
                            for lam in (0.5, 1.0)]
@@ -501,12 +502,12 @@ def table(result):
             f"{s['above_0.9']} / {s['above_0.99']} / {s['above_0.999']} / {s['above_1']} of {s['found']} | "
             f"{s['within_1e-3_of_1']} / {s['within_1e-2_of_1']} / {s['within_1e-1_of_1']} | "
             f"{max(s['ritz_residuals']):.0e} |")
-    lines += ["", "| cell | patches (rank) | miss, top 10 median / max: Euclidean | A | K | "
+    lines += ["", "| cell | patches, blend steps (rank) | miss, top 10 median / max: Euclidean | A | K | "
               "top 50: Euclidean | A | K |", "|---|---|---|---|---|---|---|---|"]
     for r in result["rows"]:
         for c in r["capture"]:
             f = lambda n, t: f"{c[f'{n}_top{t}_median']:.3f} / {c[f'{n}_top{t}_max']:.3f}"  # noqa: E731
-            lines.append(f"| {r['mesh']} | {c['patches_requested']} ({c['rank']}) | {f('euclidean', 10)} | "
+            lines.append(f"| {r['mesh']} | {c['patches_requested']}, {c.get('blend', 0)} ({c['rank']}) | {f('euclidean', 10)} | "
                          f"{f('A', 10)} | {f('K', 10)} | {f('euclidean', 50)} | {f('A', 50)} | {f('K', 50)} |")
     lines += ["", "| cell | Anderson λ: rejected / accelerated per 100 its | plain λ 0.5: energy "
               "increases, largest relative | K probe (products, check) | SuperLU of K / of A |",
@@ -537,7 +538,7 @@ def plot(result, png):
         a.semilogy(np.arange(1, len(mod) + 1), 1.0 - mod, "o-", ms=3, label=f"{r['mesh']} ({r['free']:,} free)")
         for c in r["capture"]:
             b.semilogy(np.arange(1, len(c["miss"]["A"]) + 1), np.maximum(c["miss"]["A"], 1e-6), ".-",
-                       label=f"{r['mesh']}, {c['patches_requested']} patches")
+                       label=f"{r['mesh']}, {c['patches_requested']} patches, blend {c.get('blend', 0)}")
     a.set_xlabel("rank of |μ|")
     a.set_ylabel("1 − |μ| (J_G at the λ = 1 solution)")
     a.legend(fontsize=8)
@@ -569,7 +570,8 @@ def parse(argv):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--cells", default=DEFAULT_CELLS, help="mesh:edit:domain,...")
     ap.add_argument("--eigenvalues", type=int, default=50)
-    ap.add_argument("--patches", default="100,200,400", help="coarse spaces to compare")
+    ap.add_argument("--patches", default="100,200,400,200:8,200:16",
+                    help="coarse spaces to compare: P (disjoint patches) or P:S (blended by S steps)")
     ap.add_argument("--reference-method", default=REFERENCE["acceleration"],
                     help="acceleration of the reference solve (tolerance 1e-9, 6000 its)")
     ap.add_argument("--safeguard-iterations", type=int, default=600)
@@ -588,7 +590,7 @@ def parse(argv):
                     help="a Python with matplotlib, used when this one has none")
     ap.add_argument("--plot-only", default=None, help="only draw the plot of this JSON")
     args = ap.parse_args(argv)
-    args.patches = [int(k) for k in args.patches.split(",") if k]
+    args.patches = [tuple(int(x) for x in (k + ":0").split(":")[:2]) for k in args.patches.split(",") if k]
     return args
 
 

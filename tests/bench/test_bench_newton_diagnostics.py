@@ -25,7 +25,7 @@ def finite(x):
 
 def test_json_rows_and_ranges(tmp_path):
     out = tmp_path / "diag.json"
-    diag.main(["--cells", CELL, "--eigenvalues", str(EIGENVALUES), "--patches", "30,100",
+    diag.main(["--cells", CELL, "--eigenvalues", str(EIGENVALUES), "--patches", "30,100,30:4",
                "--safeguard-iterations", "200", "--monotone-iterations", "100",
                "--json", str(out), "--png", str(tmp_path / "diag.png")])
     result = json.loads(out.read_text())
@@ -46,7 +46,9 @@ def test_json_rows_and_ranges(tmp_path):
     assert s["above_0.9"] == int((mod > 0.9).sum()) >= s["above_0.99"] >= s["above_0.999"]
     assert max(s["ritz_residuals"][:5]) < 1e-6          # the leading pairs are resolved
 
-    assert [c["patches_requested"] for c in row["capture"]] == [30, 100]
+    assert [(c["patches_requested"], c["blend"]) for c in row["capture"]] == [(30, 0), (100, 0), (30, 4)]
+    # Blending the same patches removes their jumps: less of each soft mode is missed in A's norm.
+    assert row["capture"][2]["A_top10_median"] < row["capture"][0]["A_top10_median"]
     for c in row["capture"]:
         assert 0 < c["rank"] <= c["basis_columns"]
         assert c["coarse_operator_check"] < 1e-10      # the core's U^T K U is what we project with
