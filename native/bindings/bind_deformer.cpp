@@ -169,8 +169,9 @@ warm_start: start from the previous solve's shape; with unchanged targets this c
     the same iteration (Anderson history included), so repeated short calls settle on the
     cold solve's shape.
 initial: (n, 3) positions to start from instead (a local step on them first), or None.
-acceleration: "newton" (default: Newton-Krylov steps with a coarse space), "anderson" or
-    "none" (the plain local/global method); all reach the same fixed points.
+acceleration: "anderson" (default: Anderson-accelerated local/global), "newton" (Newton-Krylov
+    steps with a coarse space) or "none" (the plain local/global method); all reach the same
+    fixed points.
 anderson_window: how many past iterates Anderson acceleration combines (1..50).
 krylov_iterations: most Krylov products per Newton step (1..500).
 coarse_patches: about how many patches the Newton preconditioner's coarse space has

@@ -40,3 +40,10 @@ def test_result_fields_are_documented():
     for name in ("positions", "iterations", "energies", "residuals", "converged",
                  "distance_estimate", "warnings", "factor_ms"):
         assert getattr(ed.SolveResult, name).__doc__, name
+
+
+def test_solve_help_names_the_real_default_acceleration():
+    # The docstring once called "newton" the default while the signature said "anderson".
+    import re
+    default = re.search(r'acceleration: str = [\'"](\w+)[\'"]', ed.Deformer.solve.__doc__).group(1)
+    assert f'"{default}" (default' in ed.Deformer.solve.__doc__
