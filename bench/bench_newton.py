@@ -6,7 +6,11 @@ cell's reference (a solve run to a residual of 1e-10, cached in bench/results/ca
 checked before reuse, as bench_convergence.py does).
 
     python bench/bench_newton.py [--meshes koala.obj] [--lambdas 0.5,1] [--methods newton,anderson,none]
+                                 [--newton-coarse 200:0,200:16] [--krylov-iterations 30]
                                  [--max-iterations 2000] [--out bench/results/newton.json]
+
+--newton-coarse runs Newton once per coarse space, P:S = P patches blended by S smoothing
+steps (coarse_space.h); a row names its space.
 
 Prints a table and writes the JSON (with the machine and its load) and a PNG beside it.
 """
@@ -27,19 +31,32 @@ from edits import diagonal, edit, mesh_path, method_list  # noqa: E402
 from machine import machine_info  # noqa: E402
 
 
-def cell(ed, V, F, mesh, edit_name, domain, lam, methods, max_iterations, tolerance):
+def runs(methods, newton_coarse):
+    """(method, solve keywords) per row: Newton once per coarse space."""
+    out = []
+    for m in methods:
+        if m == "newton":
+            out += [(m, {"coarse_patches": p, "coarse_blend": s}) for p, s in newton_coarse]
+        else:
+            out.append((m, {}))
+    return out
+
+
+def cell(ed, V, F, mesh, edit_name, domain, lam, methods, max_iterations, tolerance, newton_coarse=((200, 0),),
+         krylov_iterations=30):
     handles, static, targets = edit(V, edit_name)
     probe = ed.Deformer(V, F, domain=domain)
     probe.set_constraints(handles, static)
     probe.set_stiffness(lam)
     X_ref, ref_residual, ref_iterations = cached_reference(probe, mesh.split(".")[0], edit_name, domain, lam, targets)
     rows = []
-    for method in methods:
+    for method, coarse in runs(methods, newton_coarse):
         start = time.perf_counter()
         d = ed.Deformer(V, F, domain=domain)
         d.set_constraints(handles, static)
         d.set_stiffness(lam)
-        r = d.solve(targets, max_iterations=max_iterations, tolerance=tolerance, acceleration=method)
+        extra = dict(coarse, krylov_iterations=krylov_iterations) if method == "newton" else {}
+        r = d.solve(targets, max_iterations=max_iterations, tolerance=tolerance, acceleration=method, **extra)
         wall = time.perf_counter() - start
         dist = float(np.linalg.norm(r.positions - X_ref, axis=1).max() / diagonal(V))
         rows.append({
@@ -47,13 +64,23 @@ def cell(ed, V, F, mesh, edit_name, domain, lam, methods, max_iterations, tolera
             "vertices": len(V), "wall_s": wall, "factor_ms": r.factor_ms, "iterations": r.iterations,
             "newton_steps": r.newton_steps, "krylov_iterations": r.krylov_iterations,
             "coarse_dimension": r.coarse_dimension, "line_search_failures": r.line_search_failures,
+            "coarse_patches": coarse.get("coarse_patches"), "coarse_blend": coarse.get("coarse_blend"),
+            "coarse_ms": r.coarse_ms, "krylov_ms": r.krylov_ms,
             "converged": bool(r.converged), "distance_estimate": float(r.distance_estimate),
             "distance_to_reference": dist, "within_tolerance": dist <= tolerance,
             "reference_residual": ref_residual, "reference_iterations": ref_iterations,
         })
-        print(f"{mesh:>12} {edit_name:>5} {domain:>6} {lam:4.2f} {method:>8} {wall:8.2f} s {r.iterations:6d} it "
+        label = method + (f" {coarse['coarse_patches']}:{coarse['coarse_blend']}" if coarse else "")
+        print(f"{mesh:>12} {edit_name:>5} {domain:>6} {lam:4.2f} {label:>14} {wall:8.2f} s {r.iterations:6d} it "
               f"{r.newton_steps:3d} N {r.krylov_iterations:4d} K  conv={r.converged!s:5} dist={dist:.1e}", flush=True)
     return rows
+
+
+def row_label(r):
+    """The method, with Newton's coarse space (patches:blend steps) when it has one."""
+    if r.get("coarse_patches") is None:
+        return r["method"]
+    return f"{r['method']} ({r['coarse_patches']}:{r['coarse_blend']})"
 
 
 def plot(rows, path):
@@ -64,11 +91,11 @@ def plot(rows, path):
     except ImportError:
         return None
     labels = sorted({(r["mesh"], r["edit"], r["domain"], r["lambda"]) for r in rows})
-    methods = list(dict.fromkeys(r["method"] for r in rows))
+    methods = list(dict.fromkeys(row_label(r) for r in rows))
     fig, ax = plt.subplots(figsize=(7, 3.5))
     width = 0.8 / max(len(methods), 1)
     for k, m in enumerate(methods):
-        ys = [next((r["wall_s"] for r in rows if (r["mesh"], r["edit"], r["domain"], r["lambda"]) == lab and r["method"] == m), 0)
+        ys = [next((r["wall_s"] for r in rows if (r["mesh"], r["edit"], r["domain"], r["lambda"]) == lab and row_label(r) == m), 0)
               for lab in labels]
         ax.bar([i + k * width for i in range(len(labels))], ys, width, label=m)
     ax.set_xticks([i + 0.4 - width / 2 for i in range(len(labels))])
@@ -88,7 +115,7 @@ def markdown(result):
              "| mesh | edit | domain | λ | method | wall (s) | iterations | Newton steps | Krylov products | "
              "converged | distance to reference |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in result["rows"]:
-        lines.append(f"| {r['mesh'].split('.')[0]} | {r['edit']} | {r['domain']} | {r['lambda']:g} | {r['method']} | "
+        lines.append(f"| {r['mesh'].split('.')[0]} | {r['edit']} | {r['domain']} | {r['lambda']:g} | {row_label(r)} | "
                      f"{r['wall_s']:.2f} | {r['iterations']} | {r['newton_steps']} | {r['krylov_iterations']} | "
                      f"{'yes' if r['converged'] else 'no'} | {r['distance_to_reference']:.1e} |")
     return "\n".join(lines) + "\n"
@@ -101,6 +128,8 @@ def main(argv=None):
     p.add_argument("--domains", default="edge")
     p.add_argument("--lambdas", default="0.5,1")
     p.add_argument("--methods", default=None, help="comma-separated; default: every method the module offers")
+    p.add_argument("--newton-coarse", default="200:0", help="Newton's coarse spaces, P:S (patches:blend steps)")
+    p.add_argument("--krylov-iterations", type=int, default=30)
     p.add_argument("--max-iterations", type=int, default=2000)
     p.add_argument("--tolerance", type=float, default=1e-3)
     p.add_argument("--out", default=str(HERE / "results" / "newton.json"))
@@ -108,13 +137,15 @@ def main(argv=None):
     import edgedeform as ed
     from edgedeform.mesh_files import read_mesh
     methods = method_list(ed, a.methods)
+    newton_coarse = [tuple(int(x) for x in (k + ":0").split(":")[:2]) for k in a.newton_coarse.split(",") if k]
     rows = []
     for mesh in a.meshes.split(","):
         V, F = read_mesh(mesh_path(mesh))[:2]
         for edit_name in a.edits.split(","):
             for domain in a.domains.split(","):
                 for lam in (float(x) for x in a.lambdas.split(",")):
-                    rows += cell(ed, V, F, mesh, edit_name, domain, lam, methods, a.max_iterations, a.tolerance)
+                    rows += cell(ed, V, F, mesh, edit_name, domain, lam, methods, a.max_iterations, a.tolerance,
+                                 newton_coarse, a.krylov_iterations)
     out = Path(a.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     picture = plot(rows, out.with_suffix(".png"))
