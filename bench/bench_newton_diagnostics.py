@@ -164,9 +164,24 @@ def spectrum(d, X, nf, k, log):
            "within_1e-2_of_1": int((np.abs(gap) <= 1e-2).sum()),
            "within_1e-1_of_1": int((np.abs(gap) <= 1e-1).sum()),
            "complex_pairs": int((mu.imag > 1e-12).sum())}
+    row["participation"], row["top1pct_share"] = localization(vecs, nf)
     log(f"  spectrum: {len(mu)} Ritz pairs in {count[0]} products, {seconds:.0f} s; largest "
         f"{', '.join(f'{m:.5f}' for m in mod[:5])}")
     return mu, vecs, row
+
+
+def localization(vecs, nf):
+    """Per eigenvector: the participation ratio (sum |v_i|^2)^2 / (nf sum |v_i|^4) over the free
+    vertices (1: spread evenly, 1/nf: one vertex) and the share of |v|^2 on the 1% of
+    vertices where it is largest. Localized modes are what no coarse space of large patches
+    can carry."""
+    ratio, top_share = [], []
+    for j in range(vecs.shape[1]):
+        w = (np.abs(vecs[:, j]) ** 2).reshape(3, nf).sum(axis=0)
+        ratio.append(float(w.sum() ** 2 / (nf * np.sum(w ** 2))))
+        k = max(1, nf // 100)
+        top_share.append(float(np.sort(w)[-k:].sum() / w.sum()))
+    return ratio, top_share
 
 
 def eigen_planes(mu, vecs):
@@ -492,8 +507,8 @@ def run_cell(ed, cell, args, log):
 
 def table(result):
     lines = ["| cell | reference (its, residual, conv.) | top moduli | > 0.9 / 0.99 / 0.999 / 1 "
-             "| within 1e-3 / 1e-2 / 1e-1 of 1 | worst Ritz residual |",
-             "|---|---|---|---|---|---|"]
+             "| within 1e-3 / 1e-2 / 1e-1 of 1 | worst Ritz residual | top 10: participation / share on 1% of vertices (median) |",
+             "|---|---|---|---|---|---|---|"]
     for r in result["rows"]:
         s, ref = r["spectrum"], r["reference"]
         lines.append(
@@ -501,7 +516,8 @@ def table(result):
             f"{'yes' if ref['converged'] else 'no'} | {', '.join(f'{m:.4f}' for m in s['moduli'][:4])} | "
             f"{s['above_0.9']} / {s['above_0.99']} / {s['above_0.999']} / {s['above_1']} of {s['found']} | "
             f"{s['within_1e-3_of_1']} / {s['within_1e-2_of_1']} / {s['within_1e-1_of_1']} | "
-            f"{max(s['ritz_residuals']):.0e} |")
+            f"{max(s['ritz_residuals']):.0e} | "
+            + (f"{np.median(s['participation'][:10]):.2f} / {np.median(s['top1pct_share'][:10]):.2f} |" if "participation" in s else "– |"))
     lines += ["", "| cell | patches, blend steps (rank) | miss, top 10 median / max: Euclidean | A | K | "
               "top 50: Euclidean | A | K |", "|---|---|---|---|---|---|---|---|"]
     for r in result["rows"]:

@@ -45,6 +45,9 @@ def test_json_rows_and_ranges(tmp_path):
     assert 0.5 < mod[0] < 1.0 and s["above_1"] == 0      # a stable minimum: contracting
     assert s["above_0.9"] == int((mod > 0.9).sum()) >= s["above_0.99"] >= s["above_0.999"]
     assert max(s["ritz_residuals"][:5]) < 1e-6          # the leading pairs are resolved
+    part, share = np.asarray(s["participation"]), np.asarray(s["top1pct_share"])
+    assert len(part) == len(share) == EIGENVALUES
+    assert ((part > 0) & (part <= 1 + 1e-12)).all() and ((share > 0) & (share <= 1 + 1e-12)).all()
 
     assert [(c["patches_requested"], c["blend"]) for c in row["capture"]] == [(30, 0), (100, 0), (30, 4)]
     # Blending the same patches removes their jumps: less of each soft mode is missed in A's norm.
