@@ -1,5 +1,4 @@
-// The coarse space of the Newton-Krylov step (DESIGN §2, "The preconditioner: a coarse
-// space"): the free vertices split into connected patches, each moving by the affine
+// The coarse space of the Newton-Krylov step (docs/design.md §4): the free vertices split into connected patches, each moving by the affine
 // functions of its rest positions. Their span U carries the smooth, large-scale rotation
 // fields that the constant matrix A treats as stiff and the one-step map barely contracts.
 //

@@ -1,7 +1,7 @@
 // The deformation problem once constraints are known: which vertices are free, which node
 // terms touch them (region of interest), and the sparse operators of the global step.
 //
-// With free vertices x_f and fixed ones x_c, the energy of DESIGN §2 over the active terms is
+// With free vertices x_f and fixed ones x_c, the energy of docs/design.md §3 over the active terms is
 //   E = sum_a W1_a |J1_a x - R_i(a) e0_a|^2 + sum_t W2_t |J2_t x - s_t R_t delta0_t|^2,
 // with J1 the arc differences (P_i - P_j) and J2 the graph Laplacian rows times P,
 // W1_a = lambda_i w_a, W2_t = 1 - lambda_t. Its normal equations, restricted to x_f, are

@@ -1,5 +1,5 @@
 // How far the iteration's output is from its fixed point, as a fraction of the rest
-// bounding-box diagonal (DESIGN §2 "Convergence is geometric, and accelerated").
+// bounding-box diagonal (docs/design.md §4).
 //
 // For a map G that contracts with factor rho near its fixed point x*, any point y satisfies
 //     |G(y) - x*| = |G(y) - G(x*)| <= rho |y - x*| <= rho (|y - G(y)| + |G(y) - x*|),

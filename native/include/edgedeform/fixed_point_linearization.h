@@ -1,4 +1,4 @@
-// The one-step map G(x) = A^-1 (rhs(fit(x))) linearized at a point (DESIGN §2, "Reaching
+// The one-step map G(x) = A^-1 (rhs(fit(x))) linearized at a point (docs/design.md §4, "Reaching
 // the fixed point"): the right side's derivative D = d rhs / dx (the local fit's derivative,
 // then the rotation operator's), the Newton operator K = A - D = A (I - J_G), and
 // J_G = A^-1 D. At lambda = 1 on every term K is the energy's Hessian (halved) at the fitted

@@ -1,4 +1,4 @@
-// The derivative of the local step (DESIGN §2, "Reaching the fixed point"): how each term's
+// The derivative of the local step (docs/design.md §4, "Reaching the fixed point"): how each term's
 // fitted rotation R_t and scale s_t move when the node positions move by dp.
 //
 // Rotations move on the left, R_t + dR_t = (I + [omega_t]x) R_t. The fit maximizes

@@ -39,7 +39,7 @@ struct LocalFit {
   std::vector<Eigen::Matrix3d> right_vectors;
   Eigen::VectorXd scale;                  // s_i
   Eigen::VectorXd term_energy;            // each term's share of E
-  double energy = 0.0;                    // E(x) with these R_i, s_i (DESIGN §2)
+  double energy = 0.0;                    // E(x) with these R_i, s_i (docs/design.md §3)
 };
 
 // Scale bounds. A neighbourhood scaled by more than 4x (or less than 1/4) is no longer a

@@ -1,4 +1,4 @@
-// Inexact Newton on F(y) = y - G(y) (DESIGN §2, "Reaching the fixed point"): the step
+// Inexact Newton on F(y) = y - G(y) (docs/design.md §4, "Reaching the fixed point"): the step
 // solves (I - J_G) delta = -F, as K delta = A (G(y) - y) with K = A - D
 // (fixed_point_linearization.h), by FGMRES preconditioned with the coarse space
 // (coarse_space.h) and the existing factor of A; forcing terms after Eisenstat and Walker;

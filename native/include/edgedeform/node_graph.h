@@ -3,7 +3,7 @@
 // Primal: a node per vertex, an arc per mesh edge, w_ab = 1/2 sum of the opposite cotangents.
 // Edge: a node per mesh edge (its midpoint); in each triangle (a,b,c) the nodes of edges
 // (c,a) and (a,b) are joined with w = 1/2 cot(angle at a) -- the cotangent weight of the
-// midpoint triangle, i.e. 1/4 of the Crouzeix-Raviart stiffness matrix (DESIGN §2).
+// midpoint triangle, i.e. 1/4 of the Crouzeix-Raviart stiffness matrix (docs/design.md §3).
 #pragma once
 
 #include <vector>

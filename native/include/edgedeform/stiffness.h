@@ -18,7 +18,7 @@ Eigen::VectorXd node_stiffness(const NodeGraph& graph, const Eigen::VectorXd& ve
 // settled) or oscillates (head). So a primal term with lambda below the floor keeps a
 // floor - lambda share of an as-similar-as-possible 1-form term, sum_j w_ij |e_ij - s_i R_i
 // e0_ij|^2, taken from its Laplacian share: it pins R_i and s_i to the edges around the node
-// yet, like the Laplacian term, leaves uniform scale and rigid motion free (DESIGN's fixed
+// yet, like the Laplacian term, leaves uniform scale and rigid motion free (docs/design.md §3's fixed
 // points of lambda = 0 stay fixed points). The edge domain has three times as many rows and
 // converges without it.
 constexpr double kPrimalSimilarityFloor = 0.01;

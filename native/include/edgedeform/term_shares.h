@@ -1,4 +1,4 @@
-// A term's three energy shares, written out once (DESIGN §2 with the primal similarity
+// A term's three energy shares, written out once (docs/design.md §3 with the primal similarity
 // floor, stiffness.h): the rigid 1-form term weighs lambda_t, the as-similar-as-possible
 // 1-form term phi_t, and the rotation- and scale-aware Laplacian term what is left,
 // 1 - lambda_t - phi_t. Assembly (constrained_system.cpp), the right side
