@@ -195,29 +195,25 @@ def eigen_planes(mu, vecs):
 
 # ---- 2. capture by a coarse space -----------------------------------------------------
 
-def orthonormal_blocks(U):
-    """(Q, T): Q = U T with orthonormal columns, T block-diagonal over the blocks of U^T U
-    (disjoint patches: small blocks; blended ones overlap into larger ones); directions with singular value below 1e-10
-    of the block's largest (all-constrained or flat patches) are dropped."""
+def orthonormal_coefficients(U):
+    """(T, rank, blocks): with Q = U T the columns of Q are orthonormal; T is block-diagonal
+    over the blocks of U^T U (disjoint patches: small blocks; blended ones overlap into one
+    large block). Q itself is never formed (for a blended basis it would be dense).
+    Directions with singular value below 1e-10 of their block's largest (all-constrained or
+    flat patches) are dropped."""
     G = (U.T @ U).tocsr()
     n_blocks, label = csgraph.connected_components(G, directed=False)
-    rows, cols, vals = [], [], []
+    T = np.zeros((U.shape[1], U.shape[1]))
     kept = 0
     members = np.argsort(label, kind="stable")
     starts = np.searchsorted(label[members], np.arange(n_blocks + 1))
     for b in range(n_blocks):
         idx = members[starts[b]:starts[b + 1]]
-        g = G[idx][:, idx].toarray()
-        w, E = np.linalg.eigh(g)
+        w, E = np.linalg.eigh(G[idx][:, idx].toarray())
         keep = w > 1e-20 * max(w.max(), 1e-300)   # singular values > 1e-10 of the largest
-        block = E[:, keep] / np.sqrt(w[keep])
-        for a in range(block.shape[1]):
-            rows.extend(idx)
-            cols.extend([kept + a] * len(idx))
-            vals.extend(block[:, a])
-        kept += block.shape[1]
-    T = sp.csr_matrix((vals, (rows, cols)), shape=(U.shape[1], kept))
-    return (U @ T).tocsc(), T, n_blocks
+        T[np.ix_(idx, np.arange(kept, kept + keep.sum()))] = E[:, keep] / np.sqrt(w[keep])
+        kept += int(keep.sum())
+    return T[:, :kept], kept, n_blocks
 
 
 def coarse_operator_error(d, X, U, C, rng=None):
@@ -234,43 +230,45 @@ def coarse_operator_error(d, X, U, C, rng=None):
 
 
 class CoarseSpace:
-    """The affine-patch space U of `patches` patches, orthonormalized (Q = U T), with the
-    projections onto it in the Euclidean, A and K inner products."""
+    """The affine-patch space U of `patches` patches (blended by `blend` steps), and the
+    share of a vector it misses in the Euclidean, A and K inner products: with M one of
+    them, |W - P_M W|_M^2 = W^T M W - g^T (Q^T M Q)^-1 g, g = Q^T M W, Q = U T orthonormal."""
 
     def __init__(self, d, X, A3, patches, blend=0):
         U = coo_matrix(d._coarse_basis_coo(patches, blend)).tocsc()
-        self.Q, T, self.gram_blocks = orthonormal_blocks(U)
-        self.columns, self.A3 = int(U.shape[1]), A3
-        self.lu_A = spla.splu((self.Q.T @ (A3 @ self.Q)).tocsc())
+        self.T, self.rank, self.gram_blocks = orthonormal_coefficients(U)
+        self.U, self.columns, self.A3 = U, int(U.shape[1]), A3
+        QA = self.T.T @ (U.T @ (A3 @ U)).toarray() @ self.T
+        self.QA_inv = np.linalg.pinv(0.5 * (QA + QA.T), rcond=1e-13, hermitian=True)
         C = coo_matrix(d._coarse_operator_coo(X, patches, blend))  # the core's U^T K U
         self.operator_check = coarse_operator_error(d, X, U, C)
-        QK = (T.T @ C @ T).toarray()
+        QK = self.T.T @ C.toarray() @ self.T
         self.asymmetry = float(np.abs(QK - QK.T).max() / np.abs(QK).max())
         QK = 0.5 * (QK + QK.T)
         self.min_eigenvalue_rel = float(np.linalg.eigvalsh(QK)[0] / np.abs(QK).max())
         self.QK_inv = np.linalg.pinv(QK, rcond=1e-12, hermitian=True)
 
+    def _miss(self, W, MW, inverse):
+        g = self.T.T @ (self.U.T @ MW)
+        whole = float(np.sum(W * MW))
+        rest = whole - float(np.sum(g * (inverse @ g)))
+        return float(np.sqrt(max(rest, 0.0) / whole)) if whole > 0 else float("nan")
+
     def miss_euclidean(self, W):
-        R = W - self.Q @ (self.Q.T @ W)
-        return float(np.linalg.norm(R) / np.linalg.norm(W))
+        return self._miss(W, W, np.eye(self.rank))
 
     def miss_A(self, W):
-        R = W - self.Q @ self.lu_A.solve(self.Q.T @ (self.A3 @ W))
-        return float(np.sqrt(max(np.sum(R * (self.A3 @ R)), 0.0) / np.sum(W * (self.A3 @ W))))
+        return self._miss(W, self.A3 @ W, self.QA_inv)
 
     def miss_K(self, W, KW):
-        """With c = (Q^T K Q)^+ Q^T K W the K-orthogonal coefficients, the rest R = W - Q c
-        has |R|_K^2 = W^T K W - (Q^T K W)^T c (K symmetric): no K product beyond KW."""
-        g = self.Q.T @ KW
-        whole = float(np.sum(W * KW))
-        rest = whole - float(np.sum(g * (self.QK_inv @ g)))
-        return float(np.sqrt(max(rest, 0.0) / whole)) if whole > 0 else float("nan")
+        """K symmetric at lambda = 1: no K product beyond KW."""
+        return self._miss(W, KW, self.QK_inv)
 
 
 def capture(space, planes, K_planes, patches, log, blend=0):
     t0 = time.perf_counter()
     row = {"patches_requested": patches, "blend": blend, "basis_columns": space.columns,
-           "rank": int(space.Q.shape[1]), "gram_blocks": int(space.gram_blocks),
+           "rank": int(space.rank), "gram_blocks": int(space.gram_blocks),
            "coarse_operator_check": space.operator_check, "coarse_asymmetry": space.asymmetry, "coarse_min_eigenvalue_rel": space.min_eigenvalue_rel}
     fractions = {"euclidean": [space.miss_euclidean(W) for W in planes],
                  "A": [space.miss_A(W) for W in planes],

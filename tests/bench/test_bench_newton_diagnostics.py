@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "bench"))
@@ -85,7 +86,8 @@ def test_json_rows_and_ranges(tmp_path):
     assert f"{mod[0]:.4f}" in table
 
 
-def test_projections_keep_the_coarse_space_and_shrink_the_rest():
+@pytest.mark.parametrize("blend", (0, 4))
+def test_projections_keep_the_coarse_space_and_shrink_the_rest(blend):
     """The miss fractions are of real projections: 0 for a vector of the space, in (0, 1]
     for a random one, in each of the three norms."""
     import edgedeform as ed
@@ -93,13 +95,13 @@ def test_projections_keep_the_coarse_space_and_shrink_the_rest():
     X, _ = diag.reference(p, "anderson")
     nf = len(p["free"])
     A3, _ = diag.system_matrix(p["d"], p["free"])
-    space = diag.CoarseSpace(p["d"], X, A3, 30)
+    space = diag.CoarseSpace(p["d"], X, A3, 30, blend)
 
     def K(W):
         return np.column_stack([diag.to_flat(p["d"]._jacobian(X, diag.to_points(W[:, c], nf), True))
                                 for c in range(W.shape[1])])
 
-    inside = space.Q[:, :3].toarray() @ np.array([[1.0], [-2.0], [0.5]])
+    inside = space.U @ (space.T[:, :3] @ np.array([[1.0], [-2.0], [0.5]]))
     outside = np.random.default_rng(3).standard_normal((3 * nf, 1))
     assert space.miss_euclidean(inside) < 1e-12
     assert space.miss_A(inside) < 1e-10
