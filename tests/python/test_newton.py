@@ -163,8 +163,9 @@ def test_one_krylov_product_still_gives_a_result_never_worse_than_the_best_itera
     assert r.converged or any("not converged" in w for w in r.warnings)
 
 
+@pytest.mark.parametrize("blend", (0, 8))
 @pytest.mark.parametrize("case", ("small_region", "roi", "components", "no_coarse"))
-def test_degenerate_coarse_spaces_fall_back_cleanly(case):
+def test_degenerate_coarse_spaces_fall_back_cleanly(case, blend):
     V, F = load(SPOT)
     h, s, t = lift(V)
     roi = None
@@ -180,7 +181,7 @@ def test_degenerate_coarse_spaces_fall_back_cleanly(case):
     d = ed.Deformer(V, F, domain="edge")
     d.set_constraints(h, s, roi)
     d.set_stiffness(0.5)
-    r = d.solve(t, acceleration="newton", coarse_patches=0 if case == "no_coarse" else 400)
+    r = d.solve(t, acceleration="newton", coarse_patches=0 if case == "no_coarse" else 400, coarse_blend=blend)
     assert np.isfinite(r.positions).all()
     if r.converged:
         assert np.linalg.norm(r.positions - _reference(d, t), axis=1).max() / diag(V) <= 2e-3
@@ -190,6 +191,16 @@ def test_degenerate_coarse_spaces_fall_back_cleanly(case):
         assert r.coarse_dimension == 0 and r.coarse_factorizations == 0
     else:
         assert r.coarse_dimension > 0
+
+
+@pytest.mark.parametrize("bad", (-1, 101))
+def test_coarse_blend_out_of_range_is_refused_and_changes_nothing(bad):
+    d, V, F, t = _deformer(SPOT, "edge", 0.5)
+    before = d.solve(t, max_iterations=5, acceleration="newton").positions
+    with pytest.raises(ValueError, match=r"coarse_blend must be in \[0, 100\]"):
+        d.solve(t, max_iterations=5, acceleration="newton", coarse_blend=bad, warm_start=False)
+    again = d.solve(t, max_iterations=5, acceleration="newton", warm_start=False).positions
+    assert np.array_equal(before, again)  # the refused call left the Deformer as it was
 
 
 def test_coarse_patches_never_hold_a_constrained_vertex():
