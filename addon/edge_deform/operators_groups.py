@@ -22,7 +22,7 @@ STIFFNESS_DEFAULT = "ED_Stiffness"
 def _selected(op, ob):
     idx = np.flatnonzero(mesh_arrays.read_selection(ob))
     if idx.size == 0:
-        op.report({'ERROR'}, "No vertices selected")
+        tell(op, 'ERROR', "No vertices selected")
     return idx
 
 
@@ -157,7 +157,7 @@ def _stiffness_targets(op, ob):
     if me.use_paint_mask:   # face mask: the vertices of the selected faces
         idx = mesh_arrays.selected_face_vertices(me)
         if idx.size == 0:
-            op.report({'ERROR'}, "No faces selected")
+            tell(op, 'ERROR', "No faces selected")
         return idx
     return np.arange(len(me.vertices))
 

@@ -71,10 +71,10 @@ class EDGE_DEFORM_OT_select_controller(bpy.types.Operator):
         s = ob.edge_deform
         controller = s.handles[min(s.active_handle, len(s.handles) - 1)].controller
         if controller is None:
-            self.report({'ERROR'}, "This handle has no controller")
+            op_common.tell(self, 'ERROR', "This handle has no controller")
             return {'CANCELLED'}
         if controller.name not in context.view_layer.objects:
-            self.report({'ERROR'}, "The controller is not in this view layer")
+            op_common.tell(self, 'ERROR', "The controller is not in this view layer")
             return {'CANCELLED'}
         for other in context.view_layer.objects:
             if other is not None and other != controller:

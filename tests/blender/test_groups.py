@@ -6,7 +6,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from helpers import (bpy, expect_error, load, make_object,  # noqa
+from helpers import (Told, bpy, expect_error, load, make_object,  # noqa
                      np, positions, run, select_only)
 
 
@@ -68,9 +68,11 @@ def test_add_handle():
     bpy.ops.object.mode_set(mode='OBJECT')
     assert sorted(members(ob, s.handles[1].vertex_group)) == top[:5].tolist()
     assert sorted(members(ob, s.handles[0].vertex_group)) == top[5:].tolist()
-    # Nothing selected: a clear error, nothing added.
+    # Nothing selected: a clear error (through op_common.tell, as every message), nothing added.
     select(ob, [])
-    expect_error(bpy.ops.edge_deform.add_handle, "no vertices selected")
+    with Told() as told:
+        expect_error(bpy.ops.edge_deform.add_handle, "no vertices selected")
+    assert told.has('ERROR', "No vertices selected"), told.messages
     assert len(s.handles) == 2
 
 

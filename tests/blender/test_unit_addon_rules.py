@@ -1,6 +1,7 @@
 """Unit tests (pytest, no Blender) of rules the add-on's source keeps (issue 22):
   - every mode switch goes through compat.mode_set (Blender 5.0.1's crash guard);
   - foreach_get/foreach_set appear only in mesh_arrays.py (one place moves bpy arrays);
+  - messages reach the user only through op_common.tell (where the tests listen);
   - the modules the benchmark and the unit tests load by path import nothing from bpy.
 
     /usr/bin/python3 -m pytest tests/blender/test_unit_addon_rules.py
@@ -49,6 +50,13 @@ def test_foreach_only_in_mesh_arrays():
                for name, tree in sources() if name != "mesh_arrays.py"}
     outside = {k: v for k, v in outside.items() if v}
     assert not outside, "foreach_get/foreach_set outside mesh_arrays.py: %s" % outside
+
+
+def test_messages_go_through_tell():
+    # op_common.tell feeds the tests' listeners; a direct report() is unseen by them.
+    outside = {name: attribute_calls(tree, "report") for name, tree in sources() if name != "op_common.py"}
+    outside = {k: v for k, v in outside.items() if v}
+    assert not outside, "report() outside op_common.tell: %s" % outside
 
 
 def test_path_loaded_modules_are_bpy_free():
