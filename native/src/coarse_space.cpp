@@ -294,6 +294,15 @@ using PatchPair = std::pair<int, int>;
 // order) do not depend on how many threads ran them.
 constexpr int kCoarseChunk = 16384;
 
+// The block of `patch` in a term's short list of patch blocks, appended (zero) if new.
+template <class Block>
+Block& patch_block(std::vector<std::pair<int, Block>>& blocks, int patch) {
+  for (auto& [p, block] : blocks)
+    if (p == patch) return block;
+  blocks.emplace_back(patch, Block::Zero());
+  return blocks.back().second;
+}
+
 // Per term: the free vertices its fit reads, with the covariance vector m_w that a unit
 // move of each carries (dS = m_w dx_w^T).
 void term_inputs(const ConstrainedSystem& sys, int t, std::vector<int>& vertex, std::vector<Eigen::Vector3d>& m) {
@@ -400,12 +409,9 @@ SparseMatrix coarse_operator(const CoarseBasis& b, const SparseMatrix& coarse_A,
           }
           for (int e = b.entry_offset[static_cast<size_t>(w)]; e < b.entry_offset[static_cast<size_t>(w) + 1]; ++e) {
             const int q = b.entry_patch[static_cast<size_t>(e)];
-            size_t slot = 0;
-            while (slot < in_patch.size() && in_patch[slot].first != q) ++slot;
-            if (slot == in_patch.size()) in_patch.emplace_back(q, Eigen::Matrix<double, 4, 12>::Zero());
+            auto& block = patch_block(in_patch, q);
             const Eigen::Vector4d& phi = b.entry_value[static_cast<size_t>(e)];
-            for (int f = 0; f < b.functions[static_cast<size_t>(q)]; ++f)
-              in_patch[slot].second.middleCols<3>(3 * f) += phi(f) * response;
+            for (int f = 0; f < b.functions[static_cast<size_t>(q)]; ++f) block.middleCols<3>(3 * f) += phi(f) * response;
           }
         }
         out_patch.clear();
@@ -421,12 +427,9 @@ SparseMatrix coarse_operator(const CoarseBasis& b, const SparseMatrix& coarse_A,
               Rg(1), -Rg(0), 0, Rk(2);
           for (int e = b.entry_offset[static_cast<size_t>(r)]; e < b.entry_offset[static_cast<size_t>(r) + 1]; ++e) {
             const int p = b.entry_patch[static_cast<size_t>(e)];
-            size_t slot = 0;
-            while (slot < out_patch.size() && out_patch[slot].first != p) ++slot;
-            if (slot == out_patch.size()) out_patch.emplace_back(p, Eigen::Matrix<double, 12, 4>::Zero());
+            auto& block = patch_block(out_patch, p);
             const Eigen::Vector4d& phi = b.entry_value[static_cast<size_t>(e)];
-            for (int f = 0; f < b.functions[static_cast<size_t>(p)]; ++f)
-              out_patch[slot].second.middleRows<3>(3 * f) += phi(f) * O;
+            for (int f = 0; f < b.functions[static_cast<size_t>(p)]; ++f) block.middleRows<3>(3 * f) += phi(f) * O;
           }
         }
         for (const auto& [p, out] : out_patch)
