@@ -11,7 +11,6 @@
 #include "edgedeform/errors.h"
 #include "edgedeform/mesh_checks.h"
 #include "edgedeform/stiffness.h"
-#include "edgedeform/system_restriction.h"
 
 namespace edgedeform {
 
@@ -104,24 +103,16 @@ Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, 
 
 void Deformer::set_constraints(const ConstraintSets& sets) {
   std::lock_guard<std::mutex> lock(mutex_);
-  // The layout validates the sets before anything changes. Within the base set's free
-  // vertices it is all this set needs; otherwise it becomes the base, with J1 and J2.
-  auto system = std::make_shared<ConstrainedSystem>(constrained_layout(graph_, rest_, topology_.edges, referenced_, sets));
-  const bool within_base = base_system_ && frees_subset(*system, *base_system_);
-  if (!within_base) add_jacobians(*system);
-  keep_last_fit_per_node();
+  // The layout validates the sets before anything changes.
+  ConstrainedSystem layout = constrained_layout(graph_, rest_, topology_.edges, referenced_, sets);
+  std::shared_ptr<const ConstrainedSystem> system = operators_.set_system(std::move(layout));
+  keep_last_fit_per_node();  // while the old terms are known
   system_ = std::move(system);
-  if (!within_base) make_base(system_);
   assembled_.reset();
   iter_.positions_valid = false;  // the free vertices changed
   coarse_basis_.reset();
   coarse_stiffness_valid_ = false;
   coarse_correction_ = CoarseCorrection();
-}
-
-void Deformer::make_base(std::shared_ptr<const ConstrainedSystem> whole) {
-  base_system_ = std::move(whole);
-  base_assembled_.reset();
 }
 
 void Deformer::keep_last_fit_per_node() {
@@ -180,15 +171,16 @@ void Deformer::ensure_factored(SolveResult& result) {
   if (assembled_ && !stiffness_changed_) return;
   const auto start = Clock::now();
   assembled_.reset();  // kept only once factored
-  std::shared_ptr<const AssembledSystem> assembled = current_operators();
+  std::shared_ptr<const AssembledSystem> assembled = operators_.operators_for(*system_, node_lambda_);
   if (system_->n_free() > 0) {
-    const bool base_set = assembled == base_assembled_;
-    if (base_set && spare_tag_ == base_values_) swap_factors();  // a group released again
-    if (!(base_set && cholesky_tag_ == base_values_)) {
-      if (!base_set && cholesky_tag_ == base_values_) swap_factors();  // keep the base's aside
+    const bool base_set = operators_.is_base(assembled);
+    const long base_values = operators_.base_values();
+    if (base_set && spare_tag_ == base_values) swap_factors();  // a group released again
+    if (!(base_set && cholesky_tag_ == base_values)) {
+      if (!base_set && cholesky_tag_ == base_values) swap_factors();  // keep the base's aside
       cholesky_tag_ = -1;  // until factored
       factorize(*assembled);  // throws FactorizationError
-      cholesky_tag_ = base_set ? base_values_ : -1;
+      cholesky_tag_ = base_set ? base_values : -1;
     }
   }
   assembled_ = std::move(assembled);
@@ -216,30 +208,6 @@ void Deformer::factorize(const AssembledSystem& assembled) {
 void Deformer::swap_factors() {
   cholesky_.swap(spare_cholesky_);
   std::swap(cholesky_tag_, spare_tag_);
-}
-
-std::shared_ptr<const AssembledSystem> Deformer::current_operators() {
-  // system_ frees a subset of the base's vertices (set_constraints).
-  if (!restriction_keeps_pattern(*base_system_, *system_, node_lambda_)) {
-    // Lambda = 1 on every term of this set but not of the base: this set becomes the base.
-    auto whole = std::make_shared<ConstrainedSystem>(*system_);
-    add_jacobians(*whole);
-    make_base(std::move(whole));
-  }
-  if (!base_assembled_) {
-    ++base_values_;
-    base_assembled_ = std::make_shared<AssembledSystem>(assemble_system(*base_system_, node_lambda_));
-    ++assemblies_;
-  } else if (!assembled_at(*base_assembled_, *base_system_, node_lambda_)) {
-    // Only lambda changed: new values in the same operators. Held apart meanwhile, so that
-    // a failure leaves no half-updated base (the next call assembles anew).
-    ++base_values_;
-    std::shared_ptr<AssembledSystem> base = std::move(base_assembled_);
-    update_stiffness(*base, *base_system_, node_lambda_);
-    base_assembled_ = std::move(base);
-  }
-  if (system_->n_free() == base_system_->n_free()) return base_assembled_;  // the same free vertices
-  return std::make_shared<AssembledSystem>(restrict_assembly(*base_assembled_, *base_system_, *system_, node_lambda_));
 }
 
 void Deformer::remember_order(bool laplacian_pattern) {

@@ -17,6 +17,7 @@
 #include "edgedeform/convergence.h"
 #include "edgedeform/edge_topology.h"
 #include "edgedeform/node_graph.h"
+#include "edgedeform/operator_cache.h"
 #include "edgedeform/seams.h"
 #include "edgedeform/sparse_cholesky.h"
 #include "edgedeform/stiffness.h"
@@ -115,7 +116,7 @@ class Deformer {
   int factorizations() const { return cholesky_.factorizations() + spare_cholesky_.factorizations(); }
   // How many constraint sets were assembled whole (sparse products); a set restricted from
   // the base set's operators does not count (tests check reuse).
-  int assemblies() const { return assemblies_; }
+  int assemblies() const { return operators_.assemblies(); }
   double factor_nonzeros() const { return cholesky_.factor_nonzeros(); }
 
  private:
@@ -123,10 +124,6 @@ class Deformer {
   // For the inspection calls: factors if needed, fits the local step at X's free rows and
   // returns the fixed vertices' share c; x_local and fit hold the point.
   Eigen::MatrixXd prepare_point(const RowMatrixX3d& X, RowMatrixX3d& x_local, LocalFit& fit);
-  // The operators of system_ at node_lambda_: the base set's, or restricted from them.
-  std::shared_ptr<const AssembledSystem> current_operators();
-  // system_ with J1, J2 becomes the base set; its operators are assembled on first use.
-  void make_base(std::shared_ptr<const ConstrainedSystem> whole);
   // Factors A of the current set into cholesky_ (ordering as vertex_rank_ allows).
   void factorize(const AssembledSystem& assembled);
   void swap_factors();
@@ -165,13 +162,7 @@ class Deformer {
   std::shared_ptr<const ConstrainedSystem> system_;
   std::shared_ptr<const AssembledSystem> assembled_;  // null when the constraints changed
   bool stiffness_changed_ = false;              // assembled_ holds another lambda
-  // The base set: the last constraint set built whole (with J1, J2), and its operators once
-  // assembled, kept at node_lambda_. A set freeing only vertices the base frees (a handle
-  // group added, a vertex pinned, the group released) is built as a layout and takes its
-  // operators from the base's (system_restriction.h) instead of assembling its own.
-  std::shared_ptr<const ConstrainedSystem> base_system_;
-  std::shared_ptr<AssembledSystem> base_assembled_;
-  int assemblies_ = 0;
+  OperatorCache operators_;  // assembles or restricts system_'s operators
   // Elimination rank per vertex (-1: never free) from the last fill-reducing ordering, one
   // per pattern of A: [0] lambda = 1 everywhere, [1] with the Laplacian term (some lambda
   // < 1). Constraint sets freeing only ranked vertices reuse it (free_vertex_order). The
@@ -183,11 +174,10 @@ class Deformer {
   // A second factorization, swapped with cholesky_: while a part of the base set is factored
   // (a handle group pinned), it keeps the base set's, so that releasing the group costs no
   // factorization, and pinning the same group again finds its analysis there. A factor is
-  // the base's while its tag equals base_values_, which counts every new value of the base's
-  // operators (an assembly, a lambda change); -1 for a part's factor.
+  // the base's while its tag equals operators_.base_values(), which counts every new value
+  // of the base's operators (an assembly, a lambda change); -1 for a part's factor.
   SparseCholesky spare_cholesky_;
   long cholesky_tag_ = -1, spare_tag_ = -1;
-  long base_values_ = 0;
   // Warm start. The fit of the last result, per term of the current system (live editing
   // reuses it as it is), and per global node once the constraints change.
   LocalFit last_fit_;
