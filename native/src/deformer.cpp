@@ -172,50 +172,13 @@ void Deformer::ensure_factored(SolveResult& result) {
   const auto start = Clock::now();
   assembled_.reset();  // kept only once factored
   std::shared_ptr<const AssembledSystem> assembled = operators_.operators_for(*system_, node_lambda_);
-  if (system_->n_free() > 0) {
-    const bool base_set = operators_.is_base(assembled);
-    const long base_values = operators_.base_values();
-    if (base_set && spare_tag_ == base_values) swap_factors();  // a group released again
-    if (!(base_set && cholesky_tag_ == base_values)) {
-      if (!base_set && cholesky_tag_ == base_values) swap_factors();  // keep the base's aside
-      cholesky_tag_ = -1;  // until factored
-      factorize(*assembled);  // throws FactorizationError
-      cholesky_tag_ = base_set ? base_values : -1;
-    }
-  }
+  if (system_->n_free() > 0)
+    factors_.factor_for(*system_, *assembled, operators_.is_base(assembled), operators_.base_values());
   assembled_ = std::move(assembled);
   stiffness_changed_ = false;
   iter_.continuable = false;  // a new system: a new map G
   coarse_stiffness_valid_ = false;
   result.factor_ms = ms_since(start);
-}
-
-void Deformer::factorize(const AssembledSystem& assembled) {
-  const bool laplacian_pattern = assembled.laplacian_term;  // A's pattern (update_stiffness)
-  const std::vector<int>& rank = vertex_rank_[laplacian_pattern];
-  const std::vector<int> order = free_vertex_order(*system_, rank);  // empty if some vertex is unranked
-  if (!order.empty()) {
-    cholesky_.factorize(assembled.A, order);
-    return;
-  }
-  // Lambda moved to or from 1 everywhere for the first time (only the other pattern has an
-  // order): a quick order, as this is the live slider; otherwise the least fill.
-  const bool crossing = rank.empty() && !vertex_rank_[!laplacian_pattern].empty();
-  cholesky_.factorize(assembled.A, crossing ? Ordering::Quick : Ordering::LeastFill);
-  remember_order(laplacian_pattern);
-}
-
-void Deformer::swap_factors() {
-  cholesky_.swap(spare_cholesky_);
-  std::swap(cholesky_tag_, spare_tag_);
-}
-
-void Deformer::remember_order(bool laplacian_pattern) {
-  const std::vector<int> order = cholesky_.order();
-  std::vector<int>& vertex_rank = vertex_rank_[laplacian_pattern];
-  vertex_rank.assign(static_cast<size_t>(n_vertices()), -1);
-  for (size_t k = 0; k < order.size(); ++k)
-    vertex_rank[static_cast<size_t>(system_->free_vertices[static_cast<size_t>(order[k])])] = static_cast<int>(k);
 }
 
 SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& options) {
@@ -296,7 +259,7 @@ void Deformer::global_step(const LocalFit& fit, const Eigen::MatrixXd& c, Eigen:
   assembled_->H.apply(fit.rotation, fit.scale, c, rhs_, rhs_term_weights_);
   result.rhs_ms += ms_since(t0);
   t0 = Clock::now();
-  cholesky_.solve(rhs_, g);
+  factors_.factor().solve(rhs_, g);
   result.solve_ms += ms_since(t0);
 }
 

@@ -55,12 +55,12 @@ void Deformer::iterate_newton(const SolveOptions& options, const Eigen::MatrixXd
       d.assembled_->H.apply(fit.rotation, fit.scale, c, rhs, d.rhs_term_weights_);
       result.rhs_ms += ms_since(t0);
       t0 = Clock::now();
-      d.cholesky_.solve(rhs, g);
+      d.factors_.factor().solve(rhs, g);
       result.solve_ms += ms_since(t0);
     }
     void solve_A(const Eigen::MatrixXd& r, Eigen::MatrixXd& z) override {
       const auto t0 = Clock::now();
-      d.cholesky_.solve(r, z);
+      d.factors_.factor().solve(r, z);
       result.solve_ms += ms_since(t0);
     }
     const SparseMatrix& A() const override { return d.assembled_->A; }
@@ -126,7 +126,7 @@ Eigen::MatrixXd Deformer::one_step_map(const RowMatrixX3d& X) {
   const Eigen::MatrixXd c = prepare_point(X, x_local, fit);
   Eigen::MatrixXd rhs, g;
   assembled_->H.apply(fit.rotation, fit.scale, c, rhs);
-  cholesky_.solve(rhs, g);
+  factors_.factor().solve(rhs, g);
   return g;
 }
 
@@ -145,7 +145,7 @@ Eigen::MatrixXd Deformer::jacobian_product(const RowMatrixX3d& X, const Eigen::M
   }
   Eigen::MatrixXd d_rhs;
   lin.rhs_derivative(dX, d_rhs);
-  cholesky_.solve(d_rhs, out);
+  factors_.factor().solve(d_rhs, out);
   return out;
 }
 

@@ -16,6 +16,7 @@
 #include "edgedeform/constrained_system.h"
 #include "edgedeform/convergence.h"
 #include "edgedeform/edge_topology.h"
+#include "edgedeform/factor_cache.h"
 #include "edgedeform/node_graph.h"
 #include "edgedeform/operator_cache.h"
 #include "edgedeform/seams.h"
@@ -111,24 +112,19 @@ class Deformer {
   const NodeGraph& graph() const { return graph_; }
   const Eigen::VectorXd& node_lambda() const { return node_lambda_; }
   const Eigen::VectorXd& vertex_lambda() const { return vertex_lambda_; }
-  int analyses() const { return cholesky_.analyses() + spare_cholesky_.analyses(); }
-  int orderings() const { return cholesky_.orderings() + spare_cholesky_.orderings(); }
-  int factorizations() const { return cholesky_.factorizations() + spare_cholesky_.factorizations(); }
+  int analyses() const { return factors_.analyses(); }
+  int orderings() const { return factors_.orderings(); }
+  int factorizations() const { return factors_.factorizations(); }
   // How many constraint sets were assembled whole (sparse products); a set restricted from
   // the base set's operators does not count (tests check reuse).
   int assemblies() const { return operators_.assemblies(); }
-  double factor_nonzeros() const { return cholesky_.factor_nonzeros(); }
+  double factor_nonzeros() const { return factors_.factor_nonzeros(); }
 
  private:
   void ensure_factored(SolveResult& result);
   // For the inspection calls: factors if needed, fits the local step at X's free rows and
   // returns the fixed vertices' share c; x_local and fit hold the point.
   Eigen::MatrixXd prepare_point(const RowMatrixX3d& X, RowMatrixX3d& x_local, LocalFit& fit);
-  // Factors A of the current set into cholesky_ (ordering as vertex_rank_ allows).
-  void factorize(const AssembledSystem& assembled);
-  void swap_factors();
-  // Keeps the elimination order CHOLMOD chose for the current free vertices and pattern.
-  void remember_order(bool laplacian_pattern);
   // Rotations, scales and SVD frames the first global step starts from (see SolveOptions).
   LocalFit starting_fit(const SolveOptions& options);
   // Stores the last fit per global node, before the terms change with the constraints.
@@ -163,21 +159,7 @@ class Deformer {
   std::shared_ptr<const AssembledSystem> assembled_;  // null when the constraints changed
   bool stiffness_changed_ = false;              // assembled_ holds another lambda
   OperatorCache operators_;  // assembles or restricts system_'s operators
-  // Elimination rank per vertex (-1: never free) from the last fill-reducing ordering, one
-  // per pattern of A: [0] lambda = 1 everywhere, [1] with the Laplacian term (some lambda
-  // < 1). Constraint sets freeing only ranked vertices reuse it (free_vertex_order). The
-  // other pattern's order fills badly (koala, edge domain: the lambda = 1 order on the
-  // lambda = 0.5 pattern gave 4.9x the factor entries, and every back-substitution 2.7x the
-  // time), so the slider crossing 1 orders each pattern once and then reuses its order.
-  std::vector<int> vertex_rank_[2];
-  SparseCholesky cholesky_;
-  // A second factorization, swapped with cholesky_: while a part of the base set is factored
-  // (a handle group pinned), it keeps the base set's, so that releasing the group costs no
-  // factorization, and pinning the same group again finds its analysis there. A factor is
-  // the base's while its tag equals operators_.base_values(), which counts every new value
-  // of the base's operators (an assembly, a lambda change); -1 for a part's factor.
-  SparseCholesky spare_cholesky_;
-  long cholesky_tag_ = -1, spare_tag_ = -1;
+  FactorCache factors_;      // factors assembled_'s A; its factor() is the current one
   // Warm start. The fit of the last result, per term of the current system (live editing
   // reuses it as it is), and per global node once the constraints change.
   LocalFit last_fit_;
