@@ -87,9 +87,7 @@ Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, 
   seam_tolerance_ = 1e-6 * (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
   vertex_lambda_ = Eigen::VectorXd::Constant(V.rows(), 0.5);
   node_lambda_ = node_stiffness(graph_, vertex_lambda_);
-  node_rotation_.assign(static_cast<size_t>(graph_.n_nodes), Eigen::Matrix3d::Identity());
-  node_right_vectors_ = node_rotation_;
-  node_scale_ = Eigen::VectorXd::Ones(graph_.n_nodes);
+  warm_ = WarmState(graph_.n_nodes);
   // Over the vertices the faces use: stray vertices never move and should not set the scale.
   Eigen::RowVector3d lo = Eigen::RowVector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (Eigen::Index v = 0; v < V.rows(); ++v)
@@ -106,49 +104,13 @@ void Deformer::set_constraints(const ConstraintSets& sets) {
   // The layout validates the sets before anything changes.
   ConstrainedSystem layout = constrained_layout(graph_, rest_, topology_.edges, referenced_, sets);
   std::shared_ptr<const ConstrainedSystem> system = operators_.set_system(std::move(layout));
-  keep_last_fit_per_node();  // while the old terms are known
+  if (system_) warm_.keep_per_node(system_->term_nodes);  // while the old terms are known
   system_ = std::move(system);
   assembled_.reset();
   iter_.positions_valid = false;  // the free vertices changed
   coarse_basis_.reset();
   coarse_stiffness_valid_ = false;
   coarse_correction_ = CoarseCorrection();
-}
-
-void Deformer::keep_last_fit_per_node() {
-  if (!last_fit_valid_) return;
-  const std::vector<int>& nodes = system_->term_nodes;
-  for (size_t t = 0; t < nodes.size(); ++t) {
-    const auto i = static_cast<size_t>(nodes[t]);
-    node_rotation_[i] = last_fit_.rotation[t];
-    node_right_vectors_[i] = last_fit_.right_vectors[t];
-    node_scale_(nodes[t]) = last_fit_.scale(static_cast<Eigen::Index>(t));
-  }
-  has_previous_ = true;
-  last_fit_valid_ = false;
-}
-
-LocalFit Deformer::starting_fit(const SolveOptions& options) {
-  const ConstrainedSystem& sys = *system_;
-  const auto T = static_cast<size_t>(sys.n_terms());
-  LocalFit fit;
-  if (options.warm_start && !options.initial && last_fit_valid_) {  // live editing: no copies
-    last_fit_valid_ = false;
-    return std::move(last_fit_);
-  }
-  // A cold start (or an initial shape) begins every SVD at V = I, so that it does not depend
-  // on what this Deformer solved before.
-  fit.rotation.assign(T, Eigen::Matrix3d::Identity());
-  fit.right_vectors.assign(T, Eigen::Matrix3d::Identity());
-  fit.scale = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(T));
-  if (options.warm_start && !options.initial && has_previous_)  // constraints changed since
-    for (size_t t = 0; t < T; ++t) {
-      const auto i = static_cast<size_t>(sys.term_nodes[t]);
-      fit.rotation[t] = node_rotation_[i];
-      fit.right_vectors[t] = node_right_vectors_[i];
-      fit.scale(static_cast<Eigen::Index>(t)) = node_scale_(sys.term_nodes[t]);
-    }
-  return fit;
 }
 
 void Deformer::set_stiffness(double lambda) {
@@ -212,8 +174,9 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   // nothing changed; otherwise start afresh from rotations and scales (starting_fit).
   Iteration& it = iter_;
   const bool same_targets = it.targets.rows() == targets.rows() && it.targets == targets;
-  const bool resume = options.warm_start && !options.initial && it.continuable && same_targets && last_fit_valid_;
-  LocalFit fit = starting_fit(options);
+  const bool warm = options.warm_start && !options.initial;
+  const bool resume = warm && it.continuable && same_targets && warm_.has_fit();
+  LocalFit fit = warm_.starting_fit(sys, warm);
   if (!resume) {
     if (it.y.rows() != nf || !it.positions_valid || !options.warm_start) {  // measure the first step from rest
       it.y.resize(nf, 3);
@@ -249,8 +212,7 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   for (int k = 0; k < nf; ++k) result.positions.row(sys.free_vertices[static_cast<size_t>(k)]) = it.y.row(k);
   it.positions_valid = true;
   if (auto torn = seam_warning(seams_, result.positions, seam_tolerance_)) result.warnings.push_back(*torn);
-  last_fit_ = std::move(fit);  // the next warm start begins here
-  last_fit_valid_ = true;
+  warm_.store(std::move(fit));  // the next warm start begins here
   return result;
 }
 

@@ -22,6 +22,7 @@
 #include "edgedeform/seams.h"
 #include "edgedeform/sparse_cholesky.h"
 #include "edgedeform/stiffness.h"
+#include "edgedeform/warm_state.h"
 
 namespace edgedeform {
 
@@ -125,10 +126,6 @@ class Deformer {
   // For the inspection calls: factors if needed, fits the local step at X's free rows and
   // returns the fixed vertices' share c; x_local and fit hold the point.
   Eigen::MatrixXd prepare_point(const RowMatrixX3d& X, RowMatrixX3d& x_local, LocalFit& fit);
-  // Rotations, scales and SVD frames the first global step starts from (see SolveOptions).
-  LocalFit starting_fit(const SolveOptions& options);
-  // Stores the last fit per global node, before the terms change with the constraints.
-  void keep_last_fit_per_node();
   RowMatrixX3d start_positions(const RowMatrixX3d& targets) const;
   // The local/global loop of DESIGN §2 (with Anderson acceleration unless disabled).
   void iterate(const SolveOptions& options, const Eigen::MatrixXd& c, RowMatrixX3d& x_local, LocalFit& fit,
@@ -160,19 +157,12 @@ class Deformer {
   bool stiffness_changed_ = false;              // assembled_ holds another lambda
   OperatorCache operators_;  // assembles or restricts system_'s operators
   FactorCache factors_;      // factors assembled_'s A; its factor() is the current one
-  // Warm start. The fit of the last result, per term of the current system (live editing
-  // reuses it as it is), and per global node once the constraints change.
-  LocalFit last_fit_;
-  bool last_fit_valid_ = false;
-  std::vector<Eigen::Matrix3d> node_rotation_;
-  Eigen::VectorXd node_scale_;
-  std::vector<Eigen::Matrix3d> node_right_vectors_;  // starts the next SVD of each node
-  bool has_previous_ = false;
+  WarmState warm_;           // the fit the next warm solve starts from
   // The iteration in progress, continued by a warm solve with the same targets (live editing
   // that stands still settles to the cold solve's fixed point). Owned by solve(); stale after
   // any change of system (ensure_factored) or of targets.
   struct Iteration {
-    bool continuable = false;     // same system and fit(y) == last_fit_
+    bool continuable = false;     // same system and fit(y) == the warm state's fit
     bool positions_valid = false;  // y holds the free vertices of the current constraints
     RowMatrixX3d targets;
     Eigen::MatrixXd y;            // current iterate (free vertices)
