@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -48,10 +47,6 @@ void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX
     check_distance(*o.initial, range.center, range.limit, "initial");
   }
 }
-
-// An accelerated point (lambda < 1) is kept while its residual stays below this multiple of
-// the best residual so far (see iterate()).
-constexpr double kResidualSlack = 2.0;
 
 }  // namespace
 
@@ -143,6 +138,39 @@ void Deformer::ensure_factored(SolveResult& result) {
   result.factor_ms = ms_since(start);
 }
 
+struct Deformer::StepProblem final : FixedPointProblem {
+  Deformer& d;
+  const Eigen::MatrixXd& c;  // the fixed vertices' share of the right side
+  RowMatrixX3d& x_local;
+  SolveResult& result;
+  const SolveOptions& options;
+  StepProblem(Deformer& deformer, const Eigen::MatrixXd& fixed_share, RowMatrixX3d& local, SolveResult& r,
+              const SolveOptions& o)
+      : d(deformer), c(fixed_share), x_local(local), result(r), options(o) {}
+  double local_fit(const Eigen::MatrixXd& y, LocalFit& fit) override {
+    d.local_step(y, x_local, fit, result);
+    return fit.energy;
+  }
+  void global_step(const LocalFit& fit, Eigen::MatrixXd& rhs, Eigen::MatrixXd& g) override {
+    auto t0 = Clock::now();
+    d.assembled_->H.apply(fit.rotation, fit.scale, c, rhs, d.rhs_term_weights_);
+    result.rhs_ms += ms_since(t0);
+    t0 = Clock::now();
+    d.factors_.factor().solve(rhs, g);
+    result.solve_ms += ms_since(t0);
+  }
+  void solve_A(const Eigen::MatrixXd& r, Eigen::MatrixXd& z) override {
+    const auto t0 = Clock::now();
+    d.factors_.factor().solve(r, z);
+    result.solve_ms += ms_since(t0);
+  }
+  const SparseMatrix& A() const override { return d.assembled_->A; }
+  std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit, bool positive_model) override {
+    return std::make_unique<FixedPointLinearization>(*d.system_, *d.assembled_, fit, d.node_positions_, positive_model);
+  }
+  bool interrupt_requested() override { return options.interrupt_requested && options.interrupt_requested(); }
+};
+
 SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& options) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!system_) throw std::invalid_argument("set_constraints(handles=...) must be called before solve");
@@ -182,17 +210,11 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
       it.y.resize(nf, 3);
       for (int k = 0; k < nf; ++k) it.y.row(k) = rest_.row(sys.free_vertices[static_cast<size_t>(k)]);
     }
-    it.g.resize(nf, 3);
-    it.next.resize(nf, 3);
-    it.base_step.resize(nf, 3);
-    it.anderson.resize(3 * static_cast<Eigen::Index>(nf), options.anderson_window);
-    it.monitor.resize(nf);
-    it.y_accelerated = false;
-    it.best_residual = std::numeric_limits<double>::infinity();
+    it.plain.restart(nf, options.anderson_window);
     it.targets = targets;
     it.continuable = false;  // fit is not fit(y) yet
-  } else if (it.anderson.window() != options.anderson_window) {
-    it.anderson.resize(3 * static_cast<Eigen::Index>(nf), options.anderson_window);
+  } else {
+    it.plain.set_window(nf, options.anderson_window);
   }
   if (options.initial) {
     for (int k = 0; k < nf; ++k) it.y.row(k) = options.initial->row(sys.free_vertices[static_cast<size_t>(k)]);
@@ -202,11 +224,18 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
     it.continuable = true;
   }
 
-  if (options.acceleration == Acceleration::Newton)
-    iterate_newton(options, c, x_local, fit, result);
-  else {
+  StepProblem problem(*this, c, x_local, result, options);
+  if (options.acceleration == Acceleration::Newton) {
+    iterate_newton(problem, options, fit, result);
+  } else {
     it.newton_valid = false;  // Newton's state no longer describes the iterate
-    iterate(options, c, x_local, fit, result);
+    PlainAndersonSettings settings;
+    settings.max_iterations = options.max_iterations;
+    settings.tolerance = options.tolerance;
+    settings.diag = diag_;
+    settings.descent = as.term_lambda.size() > 0 && as.term_lambda.minCoeff() >= 1.0;
+    settings.accelerate = options.acceleration == Acceleration::Anderson;
+    plain_anderson_solve(problem, settings, PlainAndersonPoint{it.y, fit, it.energy, it.continuable, it.plain}, result);
   }
 
   for (int k = 0; k < nf; ++k) result.positions.row(sys.free_vertices[static_cast<size_t>(k)]) = it.y.row(k);
@@ -216,133 +245,12 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   return result;
 }
 
-void Deformer::global_step(const LocalFit& fit, const Eigen::MatrixXd& c, Eigen::MatrixXd& g, SolveResult& result) {
-  auto t0 = Clock::now();
-  assembled_->H.apply(fit.rotation, fit.scale, c, rhs_, rhs_term_weights_);
-  result.rhs_ms += ms_since(t0);
-  t0 = Clock::now();
-  factors_.factor().solve(rhs_, g);
-  result.solve_ms += ms_since(t0);
-}
-
 void Deformer::local_step(const Eigen::MatrixXd& y, RowMatrixX3d& x_local, LocalFit& fit, SolveResult& result) {
   const auto t0 = Clock::now();
   x_local.topRows(y.rows()) = y;
   stencil_node_positions(*system_, x_local, node_positions_);
   fit_local(system_->stencil, node_positions_, assembled_->term_lambda, fit, assembled_->term_similar);
   result.local_ms += ms_since(t0);
-}
-
-// The fixed-point iteration x -> G(x) = global(local(x)). State lives in iter_: y (the
-// current point, with fit = its local step unless it.continuable is false, as on the first
-// step of a cold start), and the Anderson history.
-//
-// Each iteration takes one global step from y, g = G(y), and measures r = |g - y| / diag.
-// - If the estimated distance of g to the fixed point is below the tolerance, g is the
-//   result: the plain step is what the estimate bounds (convergence.h).
-// - Anderson safeguard (Peng et al. 2018 §3.2). With lambda = 1 on every term the iteration
-//   is block descent on E: an accelerated point is kept only if E does not rise above E(y),
-//   else the plain step g is taken (E(g) <= E(y)), so energies stay monotone. With some
-//   lambda < 1 the plain scheme is not a descent method, so E says nothing; instead an
-//   accelerated point is judged by its own residual, known after its global step: it is kept
-//   only if that residual is below kResidualSlack times the smallest residual seen since the
-//   targets were set, else the iteration returns to the plain step it replaced and the
-//   history restarts. Kept points therefore never stray further from the fixed point (in
-//   residual) than a constant times the best point so far, which bounds the accelerated
-//   iteration wherever the plain one contracts; a strict decrease (slack 1) was measured to
-//   reject most useful steps, since Anderson residuals are not monotone (dino lift, lambda
-//   0.5: 323 of 332 steps rejected, more iterations than plain). Both safeguards only choose
-//   between points; the fixed points are those of G.
-void Deformer::iterate(const SolveOptions& options, const Eigen::MatrixXd& c, RowMatrixX3d& x_local, LocalFit& fit,
-                       SolveResult& result) {
-  Iteration& it = iter_;
-  const bool accelerate = options.acceleration == Acceleration::Anderson;
-  const bool descent = assembled_->term_lambda.size() > 0 && assembled_->term_lambda.minCoeff() >= 1.0;
-  const Eigen::Index dim = it.y.size();
-  result.energies.reserve(static_cast<size_t>(options.max_iterations));
-  result.residuals.reserve(static_cast<size_t>(options.max_iterations));
-  result.distance_estimate = std::numeric_limits<double>::infinity();
-
-  for (int k = 0; k < options.max_iterations; ++k) {
-    if (options.interrupt_requested && options.interrupt_requested()) {
-      it.continuable = false;  // the caller's fit is not kept: the next solve starts afresh
-      throw SolveInterrupted("solve interrupted");
-    }
-    global_step(fit, c, it.g, result);
-    ++result.iterations;
-    const double r = max_row_distance(it.g, it.y) / diag_;
-    result.residuals.push_back(r);
-    if (!std::isfinite(r)) {  // y stays the last finite iterate
-      result.warnings.push_back("the iteration produced non-finite positions; stopped at the last finite shape");
-      result.energies.push_back(it.energy);
-      it.continuable = false;
-      return;
-    }
-    const bool map_pair = it.continuable;  // g = G(y)
-    it.monitor.add(it.y, it.g, map_pair);
-    result.distance_estimate = map_pair ? it.monitor.distance(r) : std::numeric_limits<double>::infinity();
-
-    if (result.distance_estimate < options.tolerance) {  // done: the result is the plain step
-      it.y.swap(it.g);
-      local_step(it.y, x_local, fit, result);
-      it.energy = fit.energy;
-      result.energies.push_back(fit.energy);
-      it.y_accelerated = false;
-      it.continuable = true;
-      result.converged = true;
-      return;
-    }
-
-    if (accelerate && !descent && it.y_accelerated && !(r < kResidualSlack * it.best_residual)) {
-      // The accelerated point's residual is not below kResidualSlack times the best: back to
-      // the plain step it replaced.
-      ++result.rejected_steps;
-      it.anderson.reset();
-      it.y = it.base_step;
-      it.y_accelerated = false;
-      local_step(it.y, x_local, fit, result);
-      it.energy = fit.energy;
-      result.energies.push_back(fit.energy);
-      continue;
-    }
-    if (map_pair) it.best_residual = std::min(it.best_residual, r);
-    if (accelerate && !descent) it.base_step = it.g;  // the fallback if the next point fails
-
-    bool extrapolated = false;
-    if (accelerate && map_pair) {
-      Eigen::Map<const Eigen::VectorXd> y(it.y.data(), dim), g(it.g.data(), dim);
-      Eigen::Map<Eigen::VectorXd> next(it.next.data(), dim);
-      extrapolated = it.anderson.step(y, g, next);
-    }
-    if (extrapolated) {
-      local_step(it.next, x_local, fit, result);
-      if (!std::isfinite(fit.energy) || (descent && fit.energy > it.energy)) {  // E rose: plain step, fresh history
-        ++result.rejected_steps;
-        it.anderson.reset();
-        extrapolated = false;
-      } else {
-        ++result.accelerated_steps;
-        it.y.swap(it.next);
-      }
-    }
-    if (!extrapolated) {
-      it.y.swap(it.g);
-      local_step(it.y, x_local, fit, result);
-    }
-    it.y_accelerated = extrapolated;
-    it.energy = fit.energy;
-    it.continuable = true;
-    result.energies.push_back(fit.energy);
-  }
-  std::ostringstream msg;
-  msg << "not converged: stopped at max_iterations (" << options.max_iterations << "); ";
-  if (std::isfinite(result.distance_estimate))
-    msg << "the estimated distance to the fixed point is " << result.distance_estimate
-        << " of the bounding-box diagonal (tolerance " << options.tolerance << ")";
-  else
-    msg << "the distance to the fixed point is unknown: the iteration has not been seen to contract "
-           "(tolerance " << options.tolerance << " of the bounding-box diagonal)";
-  result.warnings.push_back(msg.str());
 }
 
 double Deformer::energy(const RowMatrixX3d& X) const {

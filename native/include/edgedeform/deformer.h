@@ -1,6 +1,12 @@
 // The public solver: a mesh, its graph, constraints and stiffness, and the local/global
 // iteration of DESIGN §2. Each setter validates before it changes anything, so a failed call
 // leaves the Deformer as it was.
+//
+// It wires the core's parts together, as libigl's arap_precomputation / arap_solve pair:
+// the precomputation (ensure_factored, on the first solve after a change) takes the
+// operators from operator_cache.h and their factor from factor_cache.h; solve() starts from
+// warm_state.h and runs a strategy, plain/Anderson (fixed_point_iteration.h) or
+// Newton-Krylov (newton_krylov.h), on one FixedPointProblem.
 #pragma once
 
 #include <functional>
@@ -10,13 +16,12 @@
 #include <string>
 #include <vector>
 
-#include "edgedeform/anderson.h"
 #include "edgedeform/coarse_space.h"
-#include "edgedeform/newton_krylov.h"
 #include "edgedeform/constrained_system.h"
-#include "edgedeform/convergence.h"
 #include "edgedeform/edge_topology.h"
 #include "edgedeform/factor_cache.h"
+#include "edgedeform/fixed_point_iteration.h"
+#include "edgedeform/newton_krylov.h"
 #include "edgedeform/node_graph.h"
 #include "edgedeform/operator_cache.h"
 #include "edgedeform/seams.h"
@@ -122,23 +127,20 @@ class Deformer {
   double factor_nonzeros() const { return factors_.factor_nonzeros(); }
 
  private:
+  // The FixedPointProblem of the current system: the local step, the global step with
+  // assembled_ and the factor; both strategies iterate on it.
+  struct StepProblem;
+  // Operators and factor of the current constraints and stiffness (the precomputation).
   void ensure_factored(SolveResult& result);
   // For the inspection calls: factors if needed, fits the local step at X's free rows and
   // returns the fixed vertices' share c; x_local and fit hold the point.
   Eigen::MatrixXd prepare_point(const RowMatrixX3d& X, RowMatrixX3d& x_local, LocalFit& fit);
-  RowMatrixX3d start_positions(const RowMatrixX3d& targets) const;
-  // The local/global loop of DESIGN §2 (with Anderson acceleration unless disabled).
-  void iterate(const SolveOptions& options, const Eigen::MatrixXd& c, RowMatrixX3d& x_local, LocalFit& fit,
-               SolveResult& result);
-  // The same fixed point by Newton-Krylov steps (newton_krylov.h).
-  void iterate_newton(const SolveOptions& options, const Eigen::MatrixXd& c, RowMatrixX3d& x_local, LocalFit& fit,
-                      SolveResult& result);
+  // The fixed point by Newton-Krylov steps (newton_krylov.h).
+  void iterate_newton(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit, SolveResult& result);
   // The coarse space of the current constraint set and U^T A U at the current operators,
   // built on first use; null for none (patches = 0 or too few free vertices).
   const CoarseBasis* coarse_basis(int patches, int blend);
   const SparseMatrix& coarse_stiffness_matrix();
-  // One global step: G's image of the fit, written to g (free vertices).
-  void global_step(const LocalFit& fit, const Eigen::MatrixXd& c, Eigen::MatrixXd& g, SolveResult& result);
   // One local step on free positions y (fixed rows of x_local already set).
   void local_step(const Eigen::MatrixXd& y, RowMatrixX3d& x_local, LocalFit& fit, SolveResult& result);
 
@@ -166,18 +168,12 @@ class Deformer {
     bool positions_valid = false;  // y holds the free vertices of the current constraints
     RowMatrixX3d targets;
     Eigen::MatrixXd y;            // current iterate (free vertices)
-    Eigen::MatrixXd g, next;      // G(y); the next point
-    Eigen::MatrixXd base_step;    // plain step of the last accepted point (λ<1 fallback)
     double energy = 0.0;          // E(y)
-    double best_residual = 0.0;   // smallest residual of a G pair since the targets were set
-    bool y_accelerated = false;   // y came from an Anderson step not yet judged
-    AndersonAccelerator anderson;
-    ConvergenceMonitor monitor;
+    PlainAndersonMemory plain;    // the plain/Anderson strategy's state (fixed_point_iteration.h)
     NewtonMemory newton;          // Newton-Krylov's state (newton_krylov.h)
     bool newton_valid = false;    // newton describes this iteration (false after Anderson)
   } iter_;
   double diag_ = 0.0;             // rest bounding-box diagonal
-  Eigen::MatrixXd rhs_;            // global-step scratch, reused by every iteration
   std::vector<double> rhs_term_weights_;  // RotationOperator::apply scratch
   RowMatrixX3d node_positions_;    // local-step scratch
   mutable std::unique_ptr<NodeStencil> full_stencil_;  // for energy(), built on first use
