@@ -1,5 +1,5 @@
 // The public solver: a mesh, its graph, constraints and stiffness, and the local/global
-// iteration of DESIGN §2. Each setter validates before it changes anything, so a failed call
+// iteration of docs/design.md §4. Each setter validates before it changes anything, so a failed call
 // leaves the Deformer as it was.
 //
 // It wires the core's parts together, as libigl's arap_precomputation / arap_solve pair:

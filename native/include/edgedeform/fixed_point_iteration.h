@@ -1,5 +1,5 @@
-// The plain local/global iteration x -> G(x) = global(local(x)) of DESIGN §2, with Anderson
-// acceleration unless disabled, on the same FixedPointProblem as Newton-Krylov
+// The plain local/global iteration x -> G(x) = global(local(x)) of docs/design.md §4, with
+// Anderson acceleration unless disabled, on the same FixedPointProblem as Newton-Krylov
 // (newton_krylov.h), so that the strategies are interchangeable.
 #pragma once
 
