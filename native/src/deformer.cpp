@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -11,7 +10,6 @@
 #include "edgedeform/errors.h"
 #include "edgedeform/mesh_checks.h"
 #include "edgedeform/stiffness.h"
-#include "edgedeform/system_restriction.h"
 
 namespace edgedeform {
 
@@ -50,10 +48,6 @@ void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX
   }
 }
 
-// An accelerated point (lambda < 1) is kept while its residual stays below this multiple of
-// the best residual so far (see iterate()).
-constexpr double kResidualSlack = 2.0;
-
 }  // namespace
 
 const char* acceleration_name(Acceleration a) {
@@ -88,9 +82,7 @@ Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, 
   seam_tolerance_ = 1e-6 * (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
   vertex_lambda_ = Eigen::VectorXd::Constant(V.rows(), 0.5);
   node_lambda_ = node_stiffness(graph_, vertex_lambda_);
-  node_rotation_.assign(static_cast<size_t>(graph_.n_nodes), Eigen::Matrix3d::Identity());
-  node_right_vectors_ = node_rotation_;
-  node_scale_ = Eigen::VectorXd::Ones(graph_.n_nodes);
+  warm_ = WarmState(graph_.n_nodes);
   // Over the vertices the faces use: stray vertices never move and should not set the scale.
   Eigen::RowVector3d lo = Eigen::RowVector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (Eigen::Index v = 0; v < V.rows(); ++v)
@@ -104,60 +96,16 @@ Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, 
 
 void Deformer::set_constraints(const ConstraintSets& sets) {
   std::lock_guard<std::mutex> lock(mutex_);
-  // The layout validates the sets before anything changes. Within the base set's free
-  // vertices it is all this set needs; otherwise it becomes the base, with J1 and J2.
-  auto system = std::make_shared<ConstrainedSystem>(constrained_layout(graph_, rest_, topology_.edges, referenced_, sets));
-  const bool within_base = base_system_ && frees_subset(*system, *base_system_);
-  if (!within_base) add_jacobians(*system);
-  keep_last_fit_per_node();
+  // The layout validates the sets before anything changes.
+  ConstrainedSystem layout = constrained_layout(graph_, rest_, topology_.edges, referenced_, sets);
+  std::shared_ptr<const ConstrainedSystem> system = operators_.set_system(std::move(layout));
+  if (system_) warm_.keep_per_node(system_->term_nodes);  // while the old terms are known
   system_ = std::move(system);
-  if (!within_base) make_base(system_);
   assembled_.reset();
   iter_.positions_valid = false;  // the free vertices changed
   coarse_basis_.reset();
   coarse_stiffness_valid_ = false;
   coarse_correction_ = CoarseCorrection();
-}
-
-void Deformer::make_base(std::shared_ptr<const ConstrainedSystem> whole) {
-  base_system_ = std::move(whole);
-  base_assembled_.reset();
-}
-
-void Deformer::keep_last_fit_per_node() {
-  if (!last_fit_valid_) return;
-  const std::vector<int>& nodes = system_->term_nodes;
-  for (size_t t = 0; t < nodes.size(); ++t) {
-    const auto i = static_cast<size_t>(nodes[t]);
-    node_rotation_[i] = last_fit_.rotation[t];
-    node_right_vectors_[i] = last_fit_.right_vectors[t];
-    node_scale_(nodes[t]) = last_fit_.scale(static_cast<Eigen::Index>(t));
-  }
-  has_previous_ = true;
-  last_fit_valid_ = false;
-}
-
-LocalFit Deformer::starting_fit(const SolveOptions& options) {
-  const ConstrainedSystem& sys = *system_;
-  const auto T = static_cast<size_t>(sys.n_terms());
-  LocalFit fit;
-  if (options.warm_start && !options.initial && last_fit_valid_) {  // live editing: no copies
-    last_fit_valid_ = false;
-    return std::move(last_fit_);
-  }
-  // A cold start (or an initial shape) begins every SVD at V = I, so that it does not depend
-  // on what this Deformer solved before.
-  fit.rotation.assign(T, Eigen::Matrix3d::Identity());
-  fit.right_vectors.assign(T, Eigen::Matrix3d::Identity());
-  fit.scale = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(T));
-  if (options.warm_start && !options.initial && has_previous_)  // constraints changed since
-    for (size_t t = 0; t < T; ++t) {
-      const auto i = static_cast<size_t>(sys.term_nodes[t]);
-      fit.rotation[t] = node_rotation_[i];
-      fit.right_vectors[t] = node_right_vectors_[i];
-      fit.scale(static_cast<Eigen::Index>(t)) = node_scale_(sys.term_nodes[t]);
-    }
-  return fit;
 }
 
 void Deformer::set_stiffness(double lambda) {
@@ -180,17 +128,9 @@ void Deformer::ensure_factored(SolveResult& result) {
   if (assembled_ && !stiffness_changed_) return;
   const auto start = Clock::now();
   assembled_.reset();  // kept only once factored
-  std::shared_ptr<const AssembledSystem> assembled = current_operators();
-  if (system_->n_free() > 0) {
-    const bool base_set = assembled == base_assembled_;
-    if (base_set && spare_tag_ == base_values_) swap_factors();  // a group released again
-    if (!(base_set && cholesky_tag_ == base_values_)) {
-      if (!base_set && cholesky_tag_ == base_values_) swap_factors();  // keep the base's aside
-      cholesky_tag_ = -1;  // until factored
-      factorize(*assembled);  // throws FactorizationError
-      cholesky_tag_ = base_set ? base_values_ : -1;
-    }
-  }
+  std::shared_ptr<const AssembledSystem> assembled = operators_.operators_for(*system_, node_lambda_);
+  if (system_->n_free() > 0)
+    factors_.factor_for(*system_, *assembled, operators_.is_base(assembled), operators_.base_values());
   assembled_ = std::move(assembled);
   stiffness_changed_ = false;
   iter_.continuable = false;  // a new system: a new map G
@@ -198,57 +138,38 @@ void Deformer::ensure_factored(SolveResult& result) {
   result.factor_ms = ms_since(start);
 }
 
-void Deformer::factorize(const AssembledSystem& assembled) {
-  const bool laplacian_pattern = assembled.laplacian_term;  // A's pattern (update_stiffness)
-  const std::vector<int>& rank = vertex_rank_[laplacian_pattern];
-  const std::vector<int> order = free_vertex_order(*system_, rank);  // empty if some vertex is unranked
-  if (!order.empty()) {
-    cholesky_.factorize(assembled.A, order);
-    return;
+struct Deformer::StepProblem final : FixedPointProblem {
+  Deformer& d;
+  const Eigen::MatrixXd& c;  // the fixed vertices' share of the right side
+  RowMatrixX3d& x_local;
+  SolveResult& result;
+  const SolveOptions& options;
+  StepProblem(Deformer& deformer, const Eigen::MatrixXd& fixed_share, RowMatrixX3d& local, SolveResult& r,
+              const SolveOptions& o)
+      : d(deformer), c(fixed_share), x_local(local), result(r), options(o) {}
+  double local_fit(const Eigen::MatrixXd& y, LocalFit& fit) override {
+    d.local_step(y, x_local, fit, result);
+    return fit.energy;
   }
-  // Lambda moved to or from 1 everywhere for the first time (only the other pattern has an
-  // order): a quick order, as this is the live slider; otherwise the least fill.
-  const bool crossing = rank.empty() && !vertex_rank_[!laplacian_pattern].empty();
-  cholesky_.factorize(assembled.A, crossing ? Ordering::Quick : Ordering::LeastFill);
-  remember_order(laplacian_pattern);
-}
-
-void Deformer::swap_factors() {
-  cholesky_.swap(spare_cholesky_);
-  std::swap(cholesky_tag_, spare_tag_);
-}
-
-std::shared_ptr<const AssembledSystem> Deformer::current_operators() {
-  // system_ frees a subset of the base's vertices (set_constraints).
-  if (!restriction_keeps_pattern(*base_system_, *system_, node_lambda_)) {
-    // Lambda = 1 on every term of this set but not of the base: this set becomes the base.
-    auto whole = std::make_shared<ConstrainedSystem>(*system_);
-    add_jacobians(*whole);
-    make_base(std::move(whole));
+  void global_step(const LocalFit& fit, Eigen::MatrixXd& rhs, Eigen::MatrixXd& g) override {
+    auto t0 = Clock::now();
+    d.assembled_->H.apply(fit.rotation, fit.scale, c, rhs, d.rhs_term_weights_);
+    result.rhs_ms += ms_since(t0);
+    t0 = Clock::now();
+    d.factors_.factor().solve(rhs, g);
+    result.solve_ms += ms_since(t0);
   }
-  if (!base_assembled_) {
-    ++base_values_;
-    base_assembled_ = std::make_shared<AssembledSystem>(assemble_system(*base_system_, node_lambda_));
-    ++assemblies_;
-  } else if (!assembled_at(*base_assembled_, *base_system_, node_lambda_)) {
-    // Only lambda changed: new values in the same operators. Held apart meanwhile, so that
-    // a failure leaves no half-updated base (the next call assembles anew).
-    ++base_values_;
-    std::shared_ptr<AssembledSystem> base = std::move(base_assembled_);
-    update_stiffness(*base, *base_system_, node_lambda_);
-    base_assembled_ = std::move(base);
+  void solve_A(const Eigen::MatrixXd& r, Eigen::MatrixXd& z) override {
+    const auto t0 = Clock::now();
+    d.factors_.factor().solve(r, z);
+    result.solve_ms += ms_since(t0);
   }
-  if (system_->n_free() == base_system_->n_free()) return base_assembled_;  // the same free vertices
-  return std::make_shared<AssembledSystem>(restrict_assembly(*base_assembled_, *base_system_, *system_, node_lambda_));
-}
-
-void Deformer::remember_order(bool laplacian_pattern) {
-  const std::vector<int> order = cholesky_.order();
-  std::vector<int>& vertex_rank = vertex_rank_[laplacian_pattern];
-  vertex_rank.assign(static_cast<size_t>(n_vertices()), -1);
-  for (size_t k = 0; k < order.size(); ++k)
-    vertex_rank[static_cast<size_t>(system_->free_vertices[static_cast<size_t>(order[k])])] = static_cast<int>(k);
-}
+  const SparseMatrix& A() const override { return d.assembled_->A; }
+  std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit, bool positive_model) override {
+    return std::make_unique<FixedPointLinearization>(*d.system_, *d.assembled_, fit, d.node_positions_, positive_model);
+  }
+  bool interrupt_requested() override { return options.interrupt_requested && options.interrupt_requested(); }
+};
 
 SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& options) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -281,24 +202,19 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   // nothing changed; otherwise start afresh from rotations and scales (starting_fit).
   Iteration& it = iter_;
   const bool same_targets = it.targets.rows() == targets.rows() && it.targets == targets;
-  const bool resume = options.warm_start && !options.initial && it.continuable && same_targets && last_fit_valid_;
-  LocalFit fit = starting_fit(options);
+  const bool warm = options.warm_start && !options.initial;
+  const bool resume = warm && it.continuable && same_targets && warm_.has_fit();
+  LocalFit fit = warm_.starting_fit(sys, warm);
   if (!resume) {
     if (it.y.rows() != nf || !it.positions_valid || !options.warm_start) {  // measure the first step from rest
       it.y.resize(nf, 3);
       for (int k = 0; k < nf; ++k) it.y.row(k) = rest_.row(sys.free_vertices[static_cast<size_t>(k)]);
     }
-    it.g.resize(nf, 3);
-    it.next.resize(nf, 3);
-    it.base_step.resize(nf, 3);
-    it.anderson.resize(3 * static_cast<Eigen::Index>(nf), options.anderson_window);
-    it.monitor.resize(nf);
-    it.y_accelerated = false;
-    it.best_residual = std::numeric_limits<double>::infinity();
+    it.plain.restart(nf, options.anderson_window);
     it.targets = targets;
     it.continuable = false;  // fit is not fit(y) yet
-  } else if (it.anderson.window() != options.anderson_window) {
-    it.anderson.resize(3 * static_cast<Eigen::Index>(nf), options.anderson_window);
+  } else {
+    it.plain.set_window(nf, options.anderson_window);
   }
   if (options.initial) {
     for (int k = 0; k < nf; ++k) it.y.row(k) = options.initial->row(sys.free_vertices[static_cast<size_t>(k)]);
@@ -308,28 +224,25 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
     it.continuable = true;
   }
 
-  if (options.acceleration == Acceleration::Newton)
-    iterate_newton(options, c, x_local, fit, result);
-  else {
+  StepProblem problem(*this, c, x_local, result, options);
+  if (options.acceleration == Acceleration::Newton) {
+    iterate_newton(problem, options, fit, result);
+  } else {
     it.newton_valid = false;  // Newton's state no longer describes the iterate
-    iterate(options, c, x_local, fit, result);
+    PlainAndersonSettings settings;
+    settings.max_iterations = options.max_iterations;
+    settings.tolerance = options.tolerance;
+    settings.diag = diag_;
+    settings.descent = as.term_lambda.size() > 0 && as.term_lambda.minCoeff() >= 1.0;
+    settings.accelerate = options.acceleration == Acceleration::Anderson;
+    plain_anderson_solve(problem, settings, PlainAndersonPoint{it.y, fit, it.energy, it.continuable, it.plain}, result);
   }
 
   for (int k = 0; k < nf; ++k) result.positions.row(sys.free_vertices[static_cast<size_t>(k)]) = it.y.row(k);
   it.positions_valid = true;
   if (auto torn = seam_warning(seams_, result.positions, seam_tolerance_)) result.warnings.push_back(*torn);
-  last_fit_ = std::move(fit);  // the next warm start begins here
-  last_fit_valid_ = true;
+  warm_.store(std::move(fit));  // the next warm start begins here
   return result;
-}
-
-void Deformer::global_step(const LocalFit& fit, const Eigen::MatrixXd& c, Eigen::MatrixXd& g, SolveResult& result) {
-  auto t0 = Clock::now();
-  assembled_->H.apply(fit.rotation, fit.scale, c, rhs_, rhs_term_weights_);
-  result.rhs_ms += ms_since(t0);
-  t0 = Clock::now();
-  cholesky_.solve(rhs_, g);
-  result.solve_ms += ms_since(t0);
 }
 
 void Deformer::local_step(const Eigen::MatrixXd& y, RowMatrixX3d& x_local, LocalFit& fit, SolveResult& result) {
@@ -338,118 +251,6 @@ void Deformer::local_step(const Eigen::MatrixXd& y, RowMatrixX3d& x_local, Local
   stencil_node_positions(*system_, x_local, node_positions_);
   fit_local(system_->stencil, node_positions_, assembled_->term_lambda, fit, assembled_->term_similar);
   result.local_ms += ms_since(t0);
-}
-
-// The fixed-point iteration x -> G(x) = global(local(x)). State lives in iter_: y (the
-// current point, with fit = its local step unless it.continuable is false, as on the first
-// step of a cold start), and the Anderson history.
-//
-// Each iteration takes one global step from y, g = G(y), and measures r = |g - y| / diag.
-// - If the estimated distance of g to the fixed point is below the tolerance, g is the
-//   result: the plain step is what the estimate bounds (convergence.h).
-// - Anderson safeguard (Peng et al. 2018 §3.2). With lambda = 1 on every term the iteration
-//   is block descent on E: an accelerated point is kept only if E does not rise above E(y),
-//   else the plain step g is taken (E(g) <= E(y)), so energies stay monotone. With some
-//   lambda < 1 the plain scheme is not a descent method, so E says nothing; instead an
-//   accelerated point is judged by its own residual, known after its global step: it is kept
-//   only if that residual is below kResidualSlack times the smallest residual seen since the
-//   targets were set, else the iteration returns to the plain step it replaced and the
-//   history restarts. Kept points therefore never stray further from the fixed point (in
-//   residual) than a constant times the best point so far, which bounds the accelerated
-//   iteration wherever the plain one contracts; a strict decrease (slack 1) was measured to
-//   reject most useful steps, since Anderson residuals are not monotone (dino lift, lambda
-//   0.5: 323 of 332 steps rejected, more iterations than plain). Both safeguards only choose
-//   between points; the fixed points are those of G.
-void Deformer::iterate(const SolveOptions& options, const Eigen::MatrixXd& c, RowMatrixX3d& x_local, LocalFit& fit,
-                       SolveResult& result) {
-  Iteration& it = iter_;
-  const bool accelerate = options.acceleration == Acceleration::Anderson;
-  const bool descent = assembled_->term_lambda.size() > 0 && assembled_->term_lambda.minCoeff() >= 1.0;
-  const Eigen::Index dim = it.y.size();
-  result.energies.reserve(static_cast<size_t>(options.max_iterations));
-  result.residuals.reserve(static_cast<size_t>(options.max_iterations));
-  result.distance_estimate = std::numeric_limits<double>::infinity();
-
-  for (int k = 0; k < options.max_iterations; ++k) {
-    if (options.interrupt_requested && options.interrupt_requested()) {
-      it.continuable = false;  // the caller's fit is not kept: the next solve starts afresh
-      throw SolveInterrupted("solve interrupted");
-    }
-    global_step(fit, c, it.g, result);
-    ++result.iterations;
-    const double r = max_row_distance(it.g, it.y) / diag_;
-    result.residuals.push_back(r);
-    if (!std::isfinite(r)) {  // y stays the last finite iterate
-      result.warnings.push_back("the iteration produced non-finite positions; stopped at the last finite shape");
-      result.energies.push_back(it.energy);
-      it.continuable = false;
-      return;
-    }
-    const bool map_pair = it.continuable;  // g = G(y)
-    it.monitor.add(it.y, it.g, map_pair);
-    result.distance_estimate = map_pair ? it.monitor.distance(r) : std::numeric_limits<double>::infinity();
-
-    if (result.distance_estimate < options.tolerance) {  // done: the result is the plain step
-      it.y.swap(it.g);
-      local_step(it.y, x_local, fit, result);
-      it.energy = fit.energy;
-      result.energies.push_back(fit.energy);
-      it.y_accelerated = false;
-      it.continuable = true;
-      result.converged = true;
-      return;
-    }
-
-    if (accelerate && !descent && it.y_accelerated && !(r < kResidualSlack * it.best_residual)) {
-      // The accelerated point's residual is not below kResidualSlack times the best: back to
-      // the plain step it replaced.
-      ++result.rejected_steps;
-      it.anderson.reset();
-      it.y = it.base_step;
-      it.y_accelerated = false;
-      local_step(it.y, x_local, fit, result);
-      it.energy = fit.energy;
-      result.energies.push_back(fit.energy);
-      continue;
-    }
-    if (map_pair) it.best_residual = std::min(it.best_residual, r);
-    if (accelerate && !descent) it.base_step = it.g;  // the fallback if the next point fails
-
-    bool extrapolated = false;
-    if (accelerate && map_pair) {
-      Eigen::Map<const Eigen::VectorXd> y(it.y.data(), dim), g(it.g.data(), dim);
-      Eigen::Map<Eigen::VectorXd> next(it.next.data(), dim);
-      extrapolated = it.anderson.step(y, g, next);
-    }
-    if (extrapolated) {
-      local_step(it.next, x_local, fit, result);
-      if (!std::isfinite(fit.energy) || (descent && fit.energy > it.energy)) {  // E rose: plain step, fresh history
-        ++result.rejected_steps;
-        it.anderson.reset();
-        extrapolated = false;
-      } else {
-        ++result.accelerated_steps;
-        it.y.swap(it.next);
-      }
-    }
-    if (!extrapolated) {
-      it.y.swap(it.g);
-      local_step(it.y, x_local, fit, result);
-    }
-    it.y_accelerated = extrapolated;
-    it.energy = fit.energy;
-    it.continuable = true;
-    result.energies.push_back(fit.energy);
-  }
-  std::ostringstream msg;
-  msg << "not converged: stopped at max_iterations (" << options.max_iterations << "); ";
-  if (std::isfinite(result.distance_estimate))
-    msg << "the estimated distance to the fixed point is " << result.distance_estimate
-        << " of the bounding-box diagonal (tolerance " << options.tolerance << ")";
-  else
-    msg << "the distance to the fixed point is unknown: the iteration has not been seen to contract "
-           "(tolerance " << options.tolerance << " of the bounding-box diagonal)";
-  result.warnings.push_back(msg.str());
 }
 
 double Deformer::energy(const RowMatrixX3d& X) const {

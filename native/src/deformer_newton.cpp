@@ -1,6 +1,6 @@
 // Deformer's Newton-Krylov iteration: the Deformer's one-step map, local fit and factor
-// offered to newton_krylov_solve, and the coarse space kept per constraint set.
-#include <chrono>
+// (Deformer::StepProblem) offered to newton_krylov_solve, and the coarse space kept per
+// constraint set.
 #include <stdexcept>
 #include <string>
 
@@ -9,11 +9,6 @@
 #include "edgedeform/newton_krylov.h"
 
 namespace edgedeform {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
-}  // namespace
 
 const CoarseBasis* Deformer::coarse_basis(int patches, int blend) {
   if (patches <= 0) return nullptr;
@@ -35,41 +30,8 @@ const SparseMatrix& Deformer::coarse_stiffness_matrix() {
   return coarse_stiffness_;
 }
 
-void Deformer::iterate_newton(const SolveOptions& options, const Eigen::MatrixXd& c, RowMatrixX3d& x_local, LocalFit& fit,
+void Deformer::iterate_newton(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit,
                               SolveResult& result) {
-  struct Problem final : FixedPointProblem {
-    Deformer& d;
-    const Eigen::MatrixXd& c;
-    RowMatrixX3d& x_local;
-    SolveResult& result;
-    const SolveOptions& options;
-    Problem(Deformer& deformer, const Eigen::MatrixXd& fixed_share, RowMatrixX3d& local, SolveResult& r,
-            const SolveOptions& o)
-        : d(deformer), c(fixed_share), x_local(local), result(r), options(o) {}
-    double local_fit(const Eigen::MatrixXd& y, LocalFit& fit) override {
-      d.local_step(y, x_local, fit, result);
-      return fit.energy;
-    }
-    void global_step(const LocalFit& fit, Eigen::MatrixXd& rhs, Eigen::MatrixXd& g) override {
-      auto t0 = Clock::now();
-      d.assembled_->H.apply(fit.rotation, fit.scale, c, rhs, d.rhs_term_weights_);
-      result.rhs_ms += ms_since(t0);
-      t0 = Clock::now();
-      d.cholesky_.solve(rhs, g);
-      result.solve_ms += ms_since(t0);
-    }
-    void solve_A(const Eigen::MatrixXd& r, Eigen::MatrixXd& z) override {
-      const auto t0 = Clock::now();
-      d.cholesky_.solve(r, z);
-      result.solve_ms += ms_since(t0);
-    }
-    const SparseMatrix& A() const override { return d.assembled_->A; }
-    std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit, bool positive_model) override {
-      return std::make_unique<FixedPointLinearization>(*d.system_, *d.assembled_, fit, d.node_positions_, positive_model);
-    }
-    bool interrupt_requested() override { return options.interrupt_requested && options.interrupt_requested(); }
-  } problem(*this, c, x_local, result, options);
-
   Iteration& it = iter_;
   NewtonSettings settings;
   settings.max_iterations = options.max_iterations;
@@ -91,9 +53,7 @@ void Deformer::iterate_newton(const SolveOptions& options, const Eigen::MatrixXd
   result.energies.reserve(static_cast<size_t>(options.max_iterations));
   result.residuals.reserve(static_cast<size_t>(options.max_iterations));
   // The Anderson state and rate estimate do not describe Newton's iterates.
-  it.anderson.reset();
-  it.monitor.reset();
-  it.y_accelerated = false;
+  it.plain.forget();
   newton_krylov_solve(problem, settings, IterationPoint{it.y, fit, it.energy, it.continuable, it.newton}, result);
 }
 
@@ -126,7 +86,7 @@ Eigen::MatrixXd Deformer::one_step_map(const RowMatrixX3d& X) {
   const Eigen::MatrixXd c = prepare_point(X, x_local, fit);
   Eigen::MatrixXd rhs, g;
   assembled_->H.apply(fit.rotation, fit.scale, c, rhs);
-  cholesky_.solve(rhs, g);
+  factors_.factor().solve(rhs, g);
   return g;
 }
 
@@ -145,7 +105,7 @@ Eigen::MatrixXd Deformer::jacobian_product(const RowMatrixX3d& X, const Eigen::M
   }
   Eigen::MatrixXd d_rhs;
   lin.rhs_derivative(dX, d_rhs);
-  cholesky_.solve(d_rhs, out);
+  factors_.factor().solve(d_rhs, out);
   return out;
 }
 

@@ -1,6 +1,12 @@
 // The public solver: a mesh, its graph, constraints and stiffness, and the local/global
-// iteration of DESIGN §2. Each setter validates before it changes anything, so a failed call
+// iteration of docs/design.md §4. Each setter validates before it changes anything, so a failed call
 // leaves the Deformer as it was.
+//
+// It wires the core's parts together, as libigl's arap_precomputation / arap_solve pair:
+// the precomputation (ensure_factored, on the first solve after a change) takes the
+// operators from operator_cache.h and their factor from factor_cache.h; solve() starts from
+// warm_state.h and runs a strategy, plain/Anderson (fixed_point_iteration.h) or
+// Newton-Krylov (newton_krylov.h), on one FixedPointProblem.
 #pragma once
 
 #include <functional>
@@ -10,16 +16,18 @@
 #include <string>
 #include <vector>
 
-#include "edgedeform/anderson.h"
 #include "edgedeform/coarse_space.h"
-#include "edgedeform/newton_krylov.h"
 #include "edgedeform/constrained_system.h"
-#include "edgedeform/convergence.h"
 #include "edgedeform/edge_topology.h"
+#include "edgedeform/factor_cache.h"
+#include "edgedeform/fixed_point_iteration.h"
+#include "edgedeform/newton_krylov.h"
 #include "edgedeform/node_graph.h"
+#include "edgedeform/operator_cache.h"
 #include "edgedeform/seams.h"
 #include "edgedeform/sparse_cholesky.h"
 #include "edgedeform/stiffness.h"
+#include "edgedeform/warm_state.h"
 
 namespace edgedeform {
 
@@ -110,45 +118,29 @@ class Deformer {
   const NodeGraph& graph() const { return graph_; }
   const Eigen::VectorXd& node_lambda() const { return node_lambda_; }
   const Eigen::VectorXd& vertex_lambda() const { return vertex_lambda_; }
-  int analyses() const { return cholesky_.analyses() + spare_cholesky_.analyses(); }
-  int orderings() const { return cholesky_.orderings() + spare_cholesky_.orderings(); }
-  int factorizations() const { return cholesky_.factorizations() + spare_cholesky_.factorizations(); }
+  int analyses() const { return factors_.analyses(); }
+  int orderings() const { return factors_.orderings(); }
+  int factorizations() const { return factors_.factorizations(); }
   // How many constraint sets were assembled whole (sparse products); a set restricted from
   // the base set's operators does not count (tests check reuse).
-  int assemblies() const { return assemblies_; }
-  double factor_nonzeros() const { return cholesky_.factor_nonzeros(); }
+  int assemblies() const { return operators_.assemblies(); }
+  double factor_nonzeros() const { return factors_.factor_nonzeros(); }
 
  private:
+  // The FixedPointProblem of the current system: the local step, the global step with
+  // assembled_ and the factor; both strategies iterate on it.
+  struct StepProblem;
+  // Operators and factor of the current constraints and stiffness (the precomputation).
   void ensure_factored(SolveResult& result);
   // For the inspection calls: factors if needed, fits the local step at X's free rows and
   // returns the fixed vertices' share c; x_local and fit hold the point.
   Eigen::MatrixXd prepare_point(const RowMatrixX3d& X, RowMatrixX3d& x_local, LocalFit& fit);
-  // The operators of system_ at node_lambda_: the base set's, or restricted from them.
-  std::shared_ptr<const AssembledSystem> current_operators();
-  // system_ with J1, J2 becomes the base set; its operators are assembled on first use.
-  void make_base(std::shared_ptr<const ConstrainedSystem> whole);
-  // Factors A of the current set into cholesky_ (ordering as vertex_rank_ allows).
-  void factorize(const AssembledSystem& assembled);
-  void swap_factors();
-  // Keeps the elimination order CHOLMOD chose for the current free vertices and pattern.
-  void remember_order(bool laplacian_pattern);
-  // Rotations, scales and SVD frames the first global step starts from (see SolveOptions).
-  LocalFit starting_fit(const SolveOptions& options);
-  // Stores the last fit per global node, before the terms change with the constraints.
-  void keep_last_fit_per_node();
-  RowMatrixX3d start_positions(const RowMatrixX3d& targets) const;
-  // The local/global loop of DESIGN §2 (with Anderson acceleration unless disabled).
-  void iterate(const SolveOptions& options, const Eigen::MatrixXd& c, RowMatrixX3d& x_local, LocalFit& fit,
-               SolveResult& result);
-  // The same fixed point by Newton-Krylov steps (newton_krylov.h).
-  void iterate_newton(const SolveOptions& options, const Eigen::MatrixXd& c, RowMatrixX3d& x_local, LocalFit& fit,
-                      SolveResult& result);
+  // The fixed point by Newton-Krylov steps (newton_krylov.h).
+  void iterate_newton(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit, SolveResult& result);
   // The coarse space of the current constraint set and U^T A U at the current operators,
   // built on first use; null for none (patches = 0 or too few free vertices).
   const CoarseBasis* coarse_basis(int patches, int blend);
   const SparseMatrix& coarse_stiffness_matrix();
-  // One global step: G's image of the fit, written to g (free vertices).
-  void global_step(const LocalFit& fit, const Eigen::MatrixXd& c, Eigen::MatrixXd& g, SolveResult& result);
   // One local step on free positions y (fixed rows of x_local already set).
   void local_step(const Eigen::MatrixXd& y, RowMatrixX3d& x_local, LocalFit& fit, SolveResult& result);
 
@@ -165,57 +157,23 @@ class Deformer {
   std::shared_ptr<const ConstrainedSystem> system_;
   std::shared_ptr<const AssembledSystem> assembled_;  // null when the constraints changed
   bool stiffness_changed_ = false;              // assembled_ holds another lambda
-  // The base set: the last constraint set built whole (with J1, J2), and its operators once
-  // assembled, kept at node_lambda_. A set freeing only vertices the base frees (a handle
-  // group added, a vertex pinned, the group released) is built as a layout and takes its
-  // operators from the base's (system_restriction.h) instead of assembling its own.
-  std::shared_ptr<const ConstrainedSystem> base_system_;
-  std::shared_ptr<AssembledSystem> base_assembled_;
-  int assemblies_ = 0;
-  // Elimination rank per vertex (-1: never free) from the last fill-reducing ordering, one
-  // per pattern of A: [0] lambda = 1 everywhere, [1] with the Laplacian term (some lambda
-  // < 1). Constraint sets freeing only ranked vertices reuse it (free_vertex_order). The
-  // other pattern's order fills badly (koala, edge domain: the lambda = 1 order on the
-  // lambda = 0.5 pattern gave 4.9x the factor entries, and every back-substitution 2.7x the
-  // time), so the slider crossing 1 orders each pattern once and then reuses its order.
-  std::vector<int> vertex_rank_[2];
-  SparseCholesky cholesky_;
-  // A second factorization, swapped with cholesky_: while a part of the base set is factored
-  // (a handle group pinned), it keeps the base set's, so that releasing the group costs no
-  // factorization, and pinning the same group again finds its analysis there. A factor is
-  // the base's while its tag equals base_values_, which counts every new value of the base's
-  // operators (an assembly, a lambda change); -1 for a part's factor.
-  SparseCholesky spare_cholesky_;
-  long cholesky_tag_ = -1, spare_tag_ = -1;
-  long base_values_ = 0;
-  // Warm start. The fit of the last result, per term of the current system (live editing
-  // reuses it as it is), and per global node once the constraints change.
-  LocalFit last_fit_;
-  bool last_fit_valid_ = false;
-  std::vector<Eigen::Matrix3d> node_rotation_;
-  Eigen::VectorXd node_scale_;
-  std::vector<Eigen::Matrix3d> node_right_vectors_;  // starts the next SVD of each node
-  bool has_previous_ = false;
+  OperatorCache operators_;  // assembles or restricts system_'s operators
+  FactorCache factors_;      // factors assembled_'s A; its factor() is the current one
+  WarmState warm_;           // the fit the next warm solve starts from
   // The iteration in progress, continued by a warm solve with the same targets (live editing
   // that stands still settles to the cold solve's fixed point). Owned by solve(); stale after
   // any change of system (ensure_factored) or of targets.
   struct Iteration {
-    bool continuable = false;     // same system and fit(y) == last_fit_
+    bool continuable = false;     // same system and fit(y) == the warm state's fit
     bool positions_valid = false;  // y holds the free vertices of the current constraints
     RowMatrixX3d targets;
     Eigen::MatrixXd y;            // current iterate (free vertices)
-    Eigen::MatrixXd g, next;      // G(y); the next point
-    Eigen::MatrixXd base_step;    // plain step of the last accepted point (λ<1 fallback)
     double energy = 0.0;          // E(y)
-    double best_residual = 0.0;   // smallest residual of a G pair since the targets were set
-    bool y_accelerated = false;   // y came from an Anderson step not yet judged
-    AndersonAccelerator anderson;
-    ConvergenceMonitor monitor;
+    PlainAndersonMemory plain;    // the plain/Anderson strategy's state (fixed_point_iteration.h)
     NewtonMemory newton;          // Newton-Krylov's state (newton_krylov.h)
     bool newton_valid = false;    // newton describes this iteration (false after Anderson)
   } iter_;
   double diag_ = 0.0;             // rest bounding-box diagonal
-  Eigen::MatrixXd rhs_;            // global-step scratch, reused by every iteration
   std::vector<double> rhs_term_weights_;  // RotationOperator::apply scratch
   RowMatrixX3d node_positions_;    // local-step scratch
   mutable std::unique_ptr<NodeStencil> full_stencil_;  // for energy(), built on first use
