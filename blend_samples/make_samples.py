@@ -27,6 +27,19 @@ import render   # noqa: E402
 EDIT_FRAME = 24
 
 
+def import_package_first():
+    """Import the top-level `edgedeform` (build/python on PYTHONPATH) before the add-on is
+    enabled, so that the add-on uses this copy (edge_deform/native.py) instead of loading its
+    bundled one: regions.scene_mesh reads the meshes with the top-level package, and a second
+    copy of the compiled module cannot load into the same Python (pybind11: 'type
+    "SolveResult" is already registered!'). With the add-on installed, as scripts/demo.sh
+    step 3 leaves it, the sample step failed so on Debian 12 and 13 alike."""
+    try:
+        import edgedeform  # noqa: F401
+    except ImportError:
+        pass   # (then the add-on's copy, if any; a real mesh then fails to load, saying so)
+
+
 def enable_addon():
     """Make `Object.edge_deform` exist; return how (for the log) or None."""
     if hasattr(bpy.types.Object, "edge_deform"):
@@ -137,6 +150,7 @@ def main(argv):
     args = ap.parse_args(argv)
     args.out = os.path.abspath(args.out)   # Blender refuses relative save paths
     os.makedirs(args.out, exist_ok=True)
+    import_package_first()
     print("make_samples: add-on settings from", enable_addon() or "nowhere (add-on missing)")
     for scene in regions.load_scenes():
         if args.only and scene["name"] not in args.only:
