@@ -44,6 +44,7 @@ def enable_addon():
     """Make `Object.edge_deform` exist; return how (for the log) or None."""
     if hasattr(bpy.types.Object, "edge_deform"):
         return "already registered"
+    import_package_first()
     import addon_utils
     if any(m.__name__ == "edge_deform" for m in addon_utils.modules()):
         if addon_utils.enable("edge_deform", default_set=True) is not None:
@@ -150,7 +151,6 @@ def main(argv):
     args = ap.parse_args(argv)
     args.out = os.path.abspath(args.out)   # Blender refuses relative save paths
     os.makedirs(args.out, exist_ok=True)
-    import_package_first()
     print("make_samples: add-on settings from", enable_addon() or "nowhere (add-on missing)")
     for scene in regions.load_scenes():
         if args.only and scene["name"] not in args.only:
