@@ -27,10 +27,24 @@ import render   # noqa: E402
 EDIT_FRAME = 24
 
 
+def import_package_first():
+    """Import the top-level `edgedeform` (build/python on PYTHONPATH) before the add-on is
+    enabled, so that the add-on uses this copy (edge_deform/native.py) instead of loading its
+    bundled one: regions.scene_mesh reads the meshes with the top-level package, and a second
+    copy of the compiled module cannot load into the same Python (pybind11: 'type
+    "SolveResult" is already registered!'). With the add-on installed, as scripts/demo.sh
+    step 3 leaves it, the sample step failed so on Debian 12 and 13 alike."""
+    try:
+        import edgedeform  # noqa: F401
+    except ImportError:
+        pass   # (then the add-on's copy, if any; a real mesh then fails to load, saying so)
+
+
 def enable_addon():
     """Make `Object.edge_deform` exist; return how (for the log) or None."""
     if hasattr(bpy.types.Object, "edge_deform"):
         return "already registered"
+    import_package_first()
     import addon_utils
     if any(m.__name__ == "edge_deform" for m in addon_utils.modules()):
         if addon_utils.enable("edge_deform", default_set=True) is not None:

@@ -257,7 +257,9 @@ class EDGE_DEFORM_PT_solver(_SubPanel, bpy.types.Panel):
             layout.label(text=s.bl_rna.properties[name].name)
             layout.prop(s, name, text="")
         layout.label(text="Output")
-        layout.row().prop(s, "output", expand=True)
+        # Side by side, or stacked in a narrow sidebar: Blender 4.3's UI font (Inter) cut
+        # "Shape Key" to "Shape K…" at 176 px (Debian 13, ui_scale 1.04; 3.4's DejaVu fits).
+        (layout.column() if narrow(context) else layout.row()).prop(s, "output", expand=True)
         if s.output == 'SHAPE_KEY':
             layout.prop(s, "shape_key_name", text="Key")
 

@@ -11,6 +11,9 @@ button taking 26 px; the handle list leaves 40 px to its side buttons. At 229 px
 walk-through found "Add a handl…de, select, +", "Live Deform…, Esc cancels",
 "Handle → Handle…" and "EdgeDeform_St…"; at 170 px "Controll…", "Tole" and
 "Deform on Fra…": this model flags each of them on the old panel (before commit a515a04).
+It holds on Blender 4.3.2 (Debian 13) too, whose UI font is wider: it said "Shape Key" in
+the Solver panel's Output row had 54 px for 55 px of text at 170 px, and a window under
+Xvfb (UI scale 1.04) showed "Shape K…" at 176 px and the full text at 185 px.
 Group-name fields are checked at the default width only (a value may shorten, in
 Blender's usual way, in a narrow sidebar; a label may not).
 """
@@ -36,11 +39,13 @@ FONT = []
 
 
 def ui_font():
-    """Blender 3.x's UI font (DejaVu Sans), loaded: background mode loads no font."""
+    """The UI font, loaded (background mode loads no font): DejaVu Sans in Blender 3.x,
+    Inter in 4.x. Inter is wider: "Deform on Frame Change" at 11 px measures 127 px in
+    DejaVu Sans (3.4.1) and 136 px in Inter (4.3.2)."""
     if not FONT:
-        path = os.path.join(bpy.utils.system_resource('DATAFILES', path="fonts"),
-                            "DejaVuSans.woff2")
-        FONT.append(blf.load(path) if os.path.isfile(path) else 0)
+        fonts = bpy.utils.system_resource('DATAFILES', path="fonts")
+        paths = [os.path.join(fonts, name) for name in ("DejaVuSans.woff2", "Inter.woff2")]
+        FONT.append(next((blf.load(p) for p in paths if os.path.isfile(p)), 0))
     return FONT[0]
 
 
