@@ -9,43 +9,31 @@
 
 #include "edgedeform/mesh_checks.h"
 #include "edgedeform/system_restriction.h"
+#include "constrained_grid.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;
 
 namespace {
 
-constexpr int kNx = 9, kNy = 8;
+constexpr int kNx = test::ConstrainedGrid::kNx;
 
-struct Case {
-  test::TestMesh mesh = test::grid(kNx, kNy, 0.3);
-  EdgeTopology topo;
-  NodeGraph g;
-  std::vector<bool> referenced;
-  ConstraintSets whole_sets, part_sets;  // part: whole plus a band of handles and one static vertex
-
-  Case(Domain domain, bool with_roi) {
-    const int n = static_cast<int>(mesh.V.rows());
-    topo = build_edge_topology(mesh.F, n);
-    g = build_node_graph(mesh.V, mesh.F, topo, domain, true);
-    referenced = referenced_vertices(mesh.F, n);
-    for (int i = 0; i < kNx; ++i) {
-      whole_sets.handles.push_back((kNy - 1) * kNx + i);  // top row
-      whole_sets.statics.push_back(i);                    // bottom row
-    }
+// The shared grid's sets, optionally within a region of interest, with one more static
+// vertex in the part.
+struct Case : test::ConstrainedGrid {
+  Case(Domain domain, bool with_roi) : ConstrainedGrid(domain) {
     if (with_roi) {
       std::vector<int> roi;
-      for (int v = 0; v < n; ++v)
+      for (int v = 0; v < static_cast<int>(mesh.V.rows()); ++v)
         if (v % kNx >= 2) roi.push_back(v);  // the two left columns stay out
       whole_sets.roi = roi;
+      part_sets.roi = roi;
     }
-    part_sets = whole_sets;
-    for (int v = 3 * kNx; v < 6 * kNx; ++v) part_sets.handles.push_back(v);  // rows 3-5: a band across
     part_sets.statics.push_back(2 * kNx + 5);
   }
-  ConstrainedSystem whole() const { return build_constrained_system(g, mesh.V, topo.edges, referenced, whole_sets); }
-  ConstrainedSystem part_layout() const { return constrained_layout(g, mesh.V, topo.edges, referenced, part_sets); }
-  ConstrainedSystem part_whole() const { return build_constrained_system(g, mesh.V, topo.edges, referenced, part_sets); }
+  ConstrainedSystem whole() const { return ConstrainedGrid::whole(whole_sets); }
+  ConstrainedSystem part_layout() const { return layout(part_sets); }
+  ConstrainedSystem part_whole() const { return ConstrainedGrid::whole(part_sets); }
 };
 
 Eigen::VectorXd random_lambda(int n, std::mt19937& rng) {
