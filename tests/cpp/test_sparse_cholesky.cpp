@@ -134,7 +134,8 @@ TEST(SparseCholesky, SolvesALargeGridOnTwoThreadsDeterministically) {
   chol.factorize(A);
   // The Eigen fallback (SimplicialLDLT) solves on one thread.
   const bool supernodal = std::string(SparseCholesky::backend()) == "cholmod-supernodal";
-  EXPECT_EQ(chol.solves_in_parallel(), supernodal && parallel_threads() >= 2);
+  // Split whatever the thread count: one thread runs the halves in turn with the same sums.
+  EXPECT_EQ(chol.solves_in_parallel(), supernodal);
   const Eigen::MatrixXd B = Eigen::MatrixXd::Random(A.rows(), 3);
   Eigen::MatrixXd X;
   chol.solve(B, X);

@@ -48,8 +48,9 @@ class SparseCholesky {
   int orderings() const;  // how many of them computed a fill-reducing order
   int factorizations() const;  // how many numeric factorizations so far
   double factor_nonzeros() const;  // entries of L from the last analysis (0 before any)
-  // Whether solve() runs on two threads: the factor's elimination tree splits into two
-  // halves of similar work (supernodal_solve.h). Always false in the Eigen fallback.
+  // Whether solve() splits the factor's elimination tree into two halves of similar work
+  // (supernodal_solve.h), run on two threads when there are two, in turn on one: the same
+  // sums either way. Always false in the Eigen fallback.
   bool solves_in_parallel() const;
   static const char* backend();
 
