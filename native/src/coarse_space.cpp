@@ -257,14 +257,16 @@ SparseMatrix scalar_basis(const CoarseBasis& b) {
 }  // namespace
 
 SparseMatrix coarse_basis_matrix(const CoarseBasis& b) {
+  // The scalar basis on each coordinate: row v + nf c, column offset[p] + 3 f + c.
+  const SparseMatrix S = scalar_basis(b);
   const int nf = b.n_free();
   std::vector<Eigen::Triplet<double>> entries;
-  for (int v = 0; v < nf; ++v)
-    for (int e = b.entry_offset[static_cast<size_t>(v)]; e < b.entry_offset[static_cast<size_t>(v) + 1]; ++e) {
-      const auto p = static_cast<size_t>(b.entry_patch[static_cast<size_t>(e)]);
-      for (int f = 0; f < b.functions[p]; ++f)
-        for (int c = 0; c < 3; ++c) entries.emplace_back(v + nf * c, b.offset[p] + 3 * f + c, b.entry_value[static_cast<size_t>(e)](f));
-    }
+  entries.reserve(static_cast<size_t>(S.nonZeros()) * 3);
+  for (int col = 0; col < S.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(S, col); it; ++it)
+      for (int c = 0; c < 3; ++c)
+        entries.emplace_back(static_cast<int>(it.row()) + nf * c, b.offset[static_cast<size_t>(col / 4)] + 3 * (col % 4) + c,
+                             it.value());
   SparseMatrix U(3 * nf, b.dimension());
   U.setFromTriplets(entries.begin(), entries.end());
   return U;
