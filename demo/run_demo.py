@@ -138,6 +138,12 @@ def main(argv):
         print("  sheet   %s" % s["sheet"])
     print("  metrics %s\n          %s" % (md_path, json_path))
     print("  results %s (one scene per sample)" % blend_path)
+    failed = [s["name"] for s in doc["samples"]
+              if s.get("addon_check") and not s["addon_check"]["ok"]]
+    if failed:
+        # The outputs stay written (they show what went wrong); the exit code says it did.
+        raise SystemExit("run_demo: the add-on check failed for %s (see metrics.md)"
+                         % ", ".join(failed))
 
 
 if __name__ == "__main__":

@@ -1,5 +1,5 @@
 """Unit tests of the demo's NumPy parts (no Blender): regions, per-region metrics, PNG I/O,
-the metrics tables."""
+the metrics tables, the package side of the add-on check."""
 import json
 import os
 import sys
@@ -9,6 +9,7 @@ import pytest
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path[:0] = [os.path.join(REPO, "demo"), os.path.join(REPO, "blend_samples")]
+import addon_check  # noqa: E402
 import deform   # noqa: E402
 import png      # noqa: E402
 import regions  # noqa: E402
@@ -80,6 +81,41 @@ def test_region_metrics_zero_for_rigid_motion_and_positive_for_bending():
     X[:, 2] += 0.05 * V[:, 0] ** 2
     m = deform.region_metrics(V, F, X, mask)
     assert m["mean_edge_strain"] > 1e-4 and m["mean_dihedral_change"] > 1e-4
+
+
+def _dino_problem():
+    import edgedeform as ed
+    scene = next(s for s in SCENES if s["name"] == "dino")
+    V, F = regions.scene_mesh(scene)
+    setup = regions.scene_setup(scene, V)
+    d = ed.Deformer(V, F, domain="edge")
+    d.set_constraints(handles=setup["handle_index"], static=setup["static"], roi=None)
+    d.set_stiffness(setup["stiffness"])
+    return ed, V, F, setup, d
+
+
+def test_addon_check_accepts_a_fixed_point_that_repels_plain_steps():
+    """The demo's dino check failed (5.8e-3 apart) while the add-on was right: its result was
+    the package's own fixed point, which plain steps flee. The verdict must accept that point
+    and still refuse a point that is not a fixed point."""
+    ed, V, F, setup, d = _dino_problem()
+    tol = addon_check.CHECK_TOLERANCE
+    r = d.solve(setup["targets"], max_iterations=3000, tolerance=tol, warm_start=False)
+    assert r.converged
+    fixed = np.asarray(r.positions)
+    diag = np.linalg.norm(V.max(axis=0) - V.min(axis=0))
+    # Why plain steps cannot judge it: from this very point they walk far away.
+    fled = d.solve(setup["targets"], initial=fixed, max_iterations=3000, tolerance=tol,
+                   warm_start=False, acceleration="none")
+    assert np.abs(np.asarray(fled.positions) - fixed).max() > 1e-3 * diag
+    assert addon_check.package_verdict(ed, V, F, setup, fixed, tol)["ok"]
+
+    free = np.ones(len(V), bool)
+    free[setup["handle_index"]] = free[setup["static"]] = False
+    nudged = fixed.copy()
+    nudged[free] += 1e-3 * diag * np.random.default_rng(0).standard_normal((free.sum(), 3))
+    verdict = addon_check.package_verdict(ed, V, F, setup, nudged, tol)
+    assert not verdict["ok"] and verdict["max_difference"] > verdict["limit"]
 
 
 def test_scenes_json_is_the_source():
