@@ -56,6 +56,8 @@ void bind_deformer(py::module_& m) {
                     "Newton steps whose line search failed (plain steps were taken instead)")
       .def_readonly("coarse_dimension", &SolveResult::coarse_dimension, "unknowns of the coarse space (0: none)")
       .def_readonly("coarse_factorizations", &SolveResult::coarse_factorizations, "coarse operators factored")
+      .def_readonly("predictions", &SolveResult::predictions, "coarse predictor steps taken (coarse_predictor)")
+      .def_readonly("predictions_kept", &SolveResult::predictions_kept, "... of which the predicted point was kept")
       .def_readonly("linearize_ms", &SolveResult::linearize_ms, "total ms linearizing the local fit (Newton)")
       .def_readonly("coarse_ms", &SolveResult::coarse_ms, "total ms assembling and factoring coarse operators (Newton)")
       .def_readonly("krylov_ms", &SolveResult::krylov_ms, "total ms in the Krylov solves (Newton)")
@@ -129,7 +131,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
           "solve",
           [](Deformer& d, const TargetsArg& targets_arg, int max_iterations, double tolerance, bool warm_start,
              const OptionalPointsArg& initial_arg, const std::string& acceleration, int anderson_window,
-             int krylov_iterations, int coarse_patches, int coarse_blend) {
+             int krylov_iterations, int coarse_patches, int coarse_blend, bool coarse_predictor) {
             const py::handle& targets = targets_arg.obj;
             const py::handle& initial = initial_arg.obj;
             SolveOptions o;
@@ -141,6 +143,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
             o.krylov_iterations = krylov_iterations;
             o.coarse_patches = coarse_patches;
             o.coarse_blend = coarse_blend;
+            o.coarse_predictor = coarse_predictor;
             if (!initial.is_none()) o.initial = to_points(initial, "initial");
             RowMatrixX3d t = to_points(targets, "targets");
             SignalCheck signals;
@@ -159,6 +162,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
           py::arg("krylov_iterations") = SolveOptions{}.krylov_iterations,
           py::arg("coarse_patches") = SolveOptions{}.coarse_patches,
           py::arg("coarse_blend") = SolveOptions{}.coarse_blend,
+          py::arg("coarse_predictor") = SolveOptions{}.coarse_predictor,
           R"doc(Deforms the mesh so that the handles reach their targets.
 
 targets: (h, 3) one target per handle, in the order given to set_constraints.
@@ -178,6 +182,9 @@ coarse_patches: about how many patches the Newton preconditioner's coarse space 
     (0: none; 0..5000).
 coarse_blend: smoothing steps that blend those patches into a partition of unity (0: disjoint
     patches; 0..100).
+coarse_predictor: live editing: a warm solve whose targets moved starts with one two-level
+    Newton step over that coarse space (two global steps; needs coarse_patches > 0 and
+    max_iterations >= 3), kept only if it lowers |A (G(x) - x)|.
 Returns a SolveResult. Ctrl-C raises KeyboardInterrupt between iterations and leaves the
 Deformer usable.)doc")
       .def(

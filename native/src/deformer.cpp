@@ -103,9 +103,7 @@ void Deformer::set_constraints(const ConstraintSets& sets) {
   system_ = std::move(system);
   assembled_.reset();
   iter_.positions_valid = false;  // the free vertices changed
-  coarse_basis_.reset();
-  coarse_stiffness_valid_ = false;
-  coarse_correction_ = CoarseCorrection();
+  coarse_.constraints_changed();
 }
 
 void Deformer::set_stiffness(double lambda) {
@@ -134,7 +132,7 @@ void Deformer::ensure_factored(SolveResult& result) {
   assembled_ = std::move(assembled);
   stiffness_changed_ = false;
   iter_.continuable = false;  // a new system: a new map G
-  coarse_stiffness_valid_ = false;
+  coarse_.operators_changed();
   result.factor_ms = ms_since(start);
 }
 
@@ -204,6 +202,9 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   const bool same_targets = it.targets.rows() == targets.rows() && it.targets == targets;
   const bool warm = options.warm_start && !options.initial;
   const bool resume = warm && it.continuable && same_targets && warm_.has_fit();
+  // Live editing's moved targets: the coarse predictor starts from the last iterate.
+  const bool predicting = options.coarse_predictor && warm && !resume && !same_targets && it.positions_valid &&
+                          it.y.rows() == nf && options.coarse_patches > 0 && options.max_iterations >= 3;
   LocalFit fit = warm_.starting_fit(sys, warm);
   if (!resume) {
     if (it.y.rows() != nf || !it.positions_valid || !options.warm_start) {  // measure the first step from rest
@@ -225,12 +226,13 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   }
 
   StepProblem problem(*this, c, x_local, result, options);
+  if (predicting && predict(problem, options, fit, result)) it.continuable = true;  // fit = fit(y)
   if (options.acceleration == Acceleration::Newton) {
     iterate_newton(problem, options, fit, result);
   } else {
     it.newton_valid = false;  // Newton's state no longer describes the iterate
     PlainAndersonSettings settings;
-    settings.max_iterations = options.max_iterations;
+    settings.max_iterations = options.max_iterations - result.iterations;  // the predictor's steps count
     settings.tolerance = options.tolerance;
     settings.diag = diag_;
     settings.descent = as.term_lambda.size() > 0 && as.term_lambda.minCoeff() >= 1.0;

@@ -1,6 +1,6 @@
-// Deformer's Newton-Krylov iteration: the Deformer's one-step map, local fit and factor
-// (Deformer::StepProblem) offered to newton_krylov_solve, and the coarse space kept per
-// constraint set.
+// Deformer's Newton-Krylov iteration and live predictor: the Deformer's one-step map, local
+// fit and factor (Deformer::StepProblem) offered to newton_krylov_solve and coarse_predict,
+// over the coarse space its CoarseCache keeps; and the inspection calls.
 #include <stdexcept>
 #include <string>
 
@@ -11,23 +11,24 @@
 namespace edgedeform {
 
 const CoarseBasis* Deformer::coarse_basis(int patches, int blend) {
-  if (patches <= 0) return nullptr;
-  if (!coarse_basis_ || coarse_basis_patches_ != patches || coarse_basis_blend_ != blend) {
-    coarse_basis_ = std::make_shared<const CoarseBasis>(build_coarse_basis(*system_, rest_, topology_.edges, patches, blend));
-    coarse_basis_patches_ = patches;
-    coarse_basis_blend_ = blend;
-    coarse_stiffness_valid_ = false;
-    coarse_correction_ = CoarseCorrection();
-  }
-  return coarse_basis_->dimension() > 0 ? coarse_basis_.get() : nullptr;
+  return coarse_.basis(*system_, rest_, topology_.edges, patches, blend);
 }
 
-const SparseMatrix& Deformer::coarse_stiffness_matrix() {
-  if (!coarse_stiffness_valid_) {
-    coarse_stiffness_ = coarse_stiffness(*coarse_basis_, assembled_->A);
-    coarse_stiffness_valid_ = true;
+bool Deformer::predict(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit, SolveResult& result) {
+  const CoarseBasis* basis = coarse_basis(options.coarse_patches, options.coarse_blend);
+  if (!basis) return false;
+  Iteration& it = iter_;
+  const PredictorOutcome outcome =
+      coarse_predict(problem, *basis, coarse_.stiffness(assembled_->A), coarse_.predictor(), diag_, it.y, fit,
+                     it.energy, result);
+  ++result.predictions;
+  if (outcome.kept) {
+    ++result.predictions_kept;
+    it.plain.monitor.require_full_window();  // its first ratios would be the fast modes'
   }
-  return coarse_stiffness_;
+  result.coarse_dimension = basis->dimension();
+  it.newton_valid = false;  // Newton's state was for other targets
+  return true;
 }
 
 void Deformer::iterate_newton(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit,
@@ -46,8 +47,8 @@ void Deformer::iterate_newton(FixedPointProblem& problem, const SolveOptions& op
   it.newton_valid = true;
   settings.coarse = coarse_basis(options.coarse_patches, options.coarse_blend);
   if (settings.coarse) {
-    settings.coarse_stiffness = &coarse_stiffness_matrix();
-    settings.coarse_correction = &coarse_correction_;
+    settings.coarse_stiffness = &coarse_.stiffness(assembled_->A);
+    settings.coarse_correction = &coarse_.newton_correction();
     result.coarse_dimension = settings.coarse->dimension();
   }
   result.energies.reserve(static_cast<size_t>(options.max_iterations));
@@ -127,7 +128,7 @@ SparseMatrix Deformer::coarse_operator_at(const RowMatrixX3d& X, int patches, in
   const CoarseBasis* b = coarse_basis(patches, blend);
   if (!b) return SparseMatrix(0, 0);
   const FixedPointLinearization lin(*system_, *assembled_, fit, node_positions_);
-  return coarse_operator(*b, coarse_stiffness_matrix(), lin);
+  return coarse_operator(*b, coarse_.stiffness(assembled_->A), lin);
 }
 
 }  // namespace edgedeform

@@ -8,30 +8,13 @@
 #include "edgedeform/coarse_space.h"
 #include "edgedeform/edge_topology.h"
 #include "edgedeform/node_graph.h"
+#include "grid_lift.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;
+using test::GridLift;
 
 namespace {
-
-struct GridLift {
-  test::TestMesh mesh = test::grid(20, 20, 0.3);
-  EdgeTopology topology;
-  NodeGraph graph;
-  ConstrainedSystem system;
-  explicit GridLift(std::optional<std::vector<int>> roi = std::nullopt) {
-    topology = build_edge_topology(mesh.F, static_cast<int>(mesh.V.rows()));
-    graph = build_node_graph(mesh.V, mesh.F, topology, Domain::Edge, true);
-    ConstraintSets sets;
-    for (int i = 0; i < 20; ++i) {
-      sets.statics.push_back(i);            // bottom row
-      sets.handles.push_back(19 * 20 + i);  // top row
-    }
-    sets.roi = std::move(roi);
-    std::vector<bool> referenced(mesh.V.rows(), true);
-    system = build_constrained_system(graph, mesh.V, topology.edges, referenced, sets);
-  }
-};
 
 Eigen::MatrixXd dense_basis(const CoarseBasis& b) {
   const int nf = static_cast<int>(b.patch.size());

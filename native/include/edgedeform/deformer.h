@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "edgedeform/coarse_space.h"
+#include "edgedeform/coarse_cache.h"
 #include "edgedeform/constrained_system.h"
 #include "edgedeform/edge_topology.h"
 #include "edgedeform/factor_cache.h"
@@ -51,6 +51,10 @@ struct SolveOptions {
   int krylov_iterations = 30;
   int coarse_patches = 200;
   int coarse_blend = 0;
+  // Live editing: a warm solve whose targets moved starts with one coarse two-level step
+  // (coarse_predictor.h) over the coarse space above (needs coarse_patches > 0 and
+  // max_iterations >= 3: it takes two global steps).
+  bool coarse_predictor = false;
   // Asked once per iteration (called from the solving thread); returning true stops the
   // solve with SolveInterrupted. The Python bindings check for Ctrl-C here, so the core
   // needs no Python.
@@ -69,6 +73,7 @@ struct SolveResult {
   int newton_steps = 0, krylov_iterations = 0;  // Newton-Krylov: steps, products with K in all
   int line_search_failures = 0;                 // Newton steps that gave way to plain steps
   int coarse_factorizations = 0, coarse_dimension = 0;  // of the coarse space (0: none)
+  int predictions = 0, predictions_kept = 0;    // coarse predictor steps (coarse_predictor)
   double linearize_ms = 0.0, coarse_ms = 0.0, krylov_ms = 0.0;  // Newton-Krylov totals
   std::optional<double> initial_energy;         // energy of `initial`, when given
   bool converged = false;
@@ -135,12 +140,12 @@ class Deformer {
   // For the inspection calls: factors if needed, fits the local step at X's free rows and
   // returns the fixed vertices' share c; x_local and fit hold the point.
   Eigen::MatrixXd prepare_point(const RowMatrixX3d& X, RowMatrixX3d& x_local, LocalFit& fit);
+  // Moved targets, warm: the coarse predictor's step from it.y (true if it ran).
+  bool predict(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit, SolveResult& result);
   // The fixed point by Newton-Krylov steps (newton_krylov.h).
   void iterate_newton(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit, SolveResult& result);
-  // The coarse space of the current constraint set and U^T A U at the current operators,
-  // built on first use; null for none (patches = 0 or too few free vertices).
+  // coarse_.basis() of the current constraints (null for none).
   const CoarseBasis* coarse_basis(int patches, int blend);
-  const SparseMatrix& coarse_stiffness_matrix();
   // One local step on free positions y (fixed rows of x_local already set).
   void local_step(const Eigen::MatrixXd& y, RowMatrixX3d& x_local, LocalFit& fit, SolveResult& result);
 
@@ -177,13 +182,7 @@ class Deformer {
   std::vector<double> rhs_term_weights_;  // RotationOperator::apply scratch
   RowMatrixX3d node_positions_;    // local-step scratch
   mutable std::unique_ptr<NodeStencil> full_stencil_;  // for energy(), built on first use
-  // The coarse space: its basis per constraint set (and patch count), U^T A U per factored
-  // operators. Stale when the constraints (basis) or the operators (stiffness) change.
-  std::shared_ptr<const CoarseBasis> coarse_basis_;
-  int coarse_basis_patches_ = -1, coarse_basis_blend_ = -1;
-  SparseMatrix coarse_stiffness_;
-  bool coarse_stiffness_valid_ = false;
-  CoarseCorrection coarse_correction_;  // its symbolic analysis lasts as long as the basis
+  CoarseCache coarse_;             // the coarse space of Newton-Krylov and the live predictor
   // The bindings release the GIL: two Python threads sharing a Deformer take turns here.
   mutable std::mutex mutex_;
 };
