@@ -196,37 +196,11 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   for (int k = 0; k < nc; ++k) x_local.row(nf + k) = constrained.row(sys.fixed_vertices[static_cast<size_t>(k)]);
   const Eigen::MatrixXd c = -(as.K_fixed * x_local.bottomRows(nc));  // the fixed vertices' share
 
-  // Continue the last iteration (its Anderson history and rate estimate included) when
-  // nothing changed; otherwise start afresh from rotations and scales (starting_fit).
+  StartPoint start = start_point(targets, options, x_local, result);
+  LocalFit& fit = start.fit;
   Iteration& it = iter_;
-  const bool same_targets = it.targets.rows() == targets.rows() && it.targets == targets;
-  const bool warm = options.warm_start && !options.initial;
-  const bool resume = warm && it.continuable && same_targets && warm_.has_fit();
-  // Live editing's moved targets: the coarse predictor starts from the last iterate.
-  const bool predicting = options.coarse_predictor && warm && !resume && !same_targets && it.positions_valid &&
-                          it.y.rows() == nf && options.coarse_patches > 0 && options.max_iterations >= 3;
-  LocalFit fit = warm_.starting_fit(sys, warm);
-  if (!resume) {
-    if (it.y.rows() != nf || !it.positions_valid || !options.warm_start) {  // measure the first step from rest
-      it.y.resize(nf, 3);
-      for (int k = 0; k < nf; ++k) it.y.row(k) = rest_.row(sys.free_vertices[static_cast<size_t>(k)]);
-    }
-    it.plain.restart(nf, options.anderson_window);
-    it.targets = targets;
-    it.continuable = false;  // fit is not fit(y) yet
-  } else {
-    it.plain.set_window(nf, options.anderson_window);
-  }
-  if (options.initial) {
-    for (int k = 0; k < nf; ++k) it.y.row(k) = options.initial->row(sys.free_vertices[static_cast<size_t>(k)]);
-    local_step(it.y, x_local, fit, result);
-    result.initial_energy = fit.energy;
-    it.energy = fit.energy;
-    it.continuable = true;
-  }
-
   StepProblem problem(*this, c, x_local, result, options);
-  if (predicting && predict(problem, options, fit, result)) it.continuable = true;  // fit = fit(y)
+  if (start.predict && predict(problem, options, fit, result)) it.continuable = true;  // fit = fit(y)
   if (options.acceleration == Acceleration::Newton) {
     iterate_newton(problem, options, fit, result);
   } else {
@@ -245,6 +219,41 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   if (auto torn = seam_warning(seams_, result.positions, seam_tolerance_)) result.warnings.push_back(*torn);
   warm_.store(std::move(fit));  // the next warm start begins here
   return result;
+}
+
+Deformer::StartPoint Deformer::start_point(const RowMatrixX3d& targets, const SolveOptions& options,
+                                           RowMatrixX3d& x_local, SolveResult& result) {
+  const ConstrainedSystem& sys = *system_;
+  const int nf = sys.n_free();
+  // Continue the last iteration (its Anderson history and rate estimate included) when
+  // nothing changed; otherwise start afresh from rotations and scales (starting_fit).
+  Iteration& it = iter_;
+  const bool same_targets = it.targets.rows() == targets.rows() && it.targets == targets;
+  const bool warm = options.warm_start && !options.initial;
+  const bool resume = warm && it.continuable && same_targets && warm_.has_fit();
+  // Live editing's moved targets: the coarse predictor starts from the last iterate.
+  const bool predicting = options.coarse_predictor && warm && !resume && !same_targets && it.positions_valid &&
+                          it.y.rows() == nf && options.coarse_patches > 0 && options.max_iterations >= 3;
+  StartPoint start{warm_.starting_fit(sys, warm), predicting};
+  if (!resume) {
+    if (it.y.rows() != nf || !it.positions_valid || !options.warm_start) {  // measure the first step from rest
+      it.y.resize(nf, 3);
+      for (int k = 0; k < nf; ++k) it.y.row(k) = rest_.row(sys.free_vertices[static_cast<size_t>(k)]);
+    }
+    it.plain.restart(nf, options.anderson_window);
+    it.targets = targets;
+    it.continuable = false;  // fit is not fit(y) yet
+  } else {
+    it.plain.set_window(nf, options.anderson_window);
+  }
+  if (options.initial) {
+    for (int k = 0; k < nf; ++k) it.y.row(k) = options.initial->row(sys.free_vertices[static_cast<size_t>(k)]);
+    local_step(it.y, x_local, start.fit, result);
+    result.initial_energy = start.fit.energy;
+    it.energy = start.fit.energy;
+    it.continuable = true;
+  }
+  return start;
 }
 
 void Deformer::local_step(const Eigen::MatrixXd& y, RowMatrixX3d& x_local, LocalFit& fit, SolveResult& result) {

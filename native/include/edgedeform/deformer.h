@@ -140,6 +140,14 @@ class Deformer {
   // For the inspection calls: factors if needed, fits the local step at X's free rows and
   // returns the fixed vertices' share c; x_local and fit hold the point.
   Eigen::MatrixXd prepare_point(const RowMatrixX3d& X, RowMatrixX3d& x_local, LocalFit& fit);
+  // Where a solve starts: iter_ continued (same targets, warm) or restarted (from the last
+  // iterate when warm, else from rest; `initial` when given), and the fit to start with.
+  struct StartPoint {
+    LocalFit fit;
+    bool predict = false;  // live editing's moved targets: the coarse predictor goes first
+  };
+  StartPoint start_point(const RowMatrixX3d& targets, const SolveOptions& options, RowMatrixX3d& x_local,
+                         SolveResult& result);
   // Moved targets, warm: the coarse predictor's step from it.y (true if it ran).
   bool predict(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit, SolveResult& result);
   // The fixed point by Newton-Krylov steps (newton_krylov.h).
