@@ -7,6 +7,7 @@
 
 #include "edgedeform/convergence.h"
 #include "edgedeform/deformer.h"
+#include "edgedeform/errors.h"
 
 namespace edgedeform {
 
@@ -33,6 +34,11 @@ PredictorOutcome coarse_predict(FixedPointProblem& problem, const CoarseBasis& b
                                 PredictorMemory& memory, double diag, Eigen::MatrixXd& y, LocalFit& fit,
                                 double& energy, SolveResult& result) {
   PredictorOutcome out;
+  // Ctrl-C answers here too (before y moves: the caller's iterate stays as it was).
+  const auto stop_if_asked = [&] {
+    if (problem.interrupt_requested()) throw SolveInterrupted("solve interrupted");
+  };
+  stop_if_asked();
   // The plain step exactly as a warm solve without predictor takes it: from the warm fit
   // (fitted where the handles were), so that a rejected prediction changes nothing.
   Eigen::MatrixXd rhs, g;
@@ -56,6 +62,7 @@ PredictorOutcome coarse_predict(FixedPointProblem& problem, const CoarseBasis& b
       if (memory.correction.factor(basis, coarse_operator(basis, coarse_stiffness, *lin))) ++result.coarse_factorizations;
     }
     result.coarse_ms += ms_since(t0);
+    stop_if_asked();  // the assembly can take a second at 140k
     if (memory.correction.ready()) {
       Eigen::MatrixXd coarse_part, product, fine;
       memory.correction.apply(b, coarse_part);

@@ -7,6 +7,7 @@
 
 #include "edgedeform/convergence.h"
 #include "edgedeform/deformer.h"
+#include "edgedeform/errors.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;
@@ -84,4 +85,20 @@ TEST(CoarsePredictor, ARejectedPredictionChangesNothing) {
   EXPECT_EQ(predictions, 20);
   EXPECT_EQ(kept, 0);
   EXPECT_EQ(max_row_distance(end[0], end[1]), 0.0);
+}
+
+TEST(CoarsePredictor, AnInterruptStopsItAndTheDeformerStaysUsable) {
+  Bend s;
+  Deformer d(s.mesh.V, s.mesh.F, Domain::Edge);
+  d.set_constraints(s.sets);
+  d.set_stiffness(0.5);
+  d.solve(s.at(0.0), tick(true, 4));
+  SolveOptions asked = tick(true, 4);
+  int calls = 0;
+  asked.interrupt_requested = [&calls] { return ++calls >= 1; };
+  EXPECT_THROW(d.solve(s.at(0.5), asked), SolveInterrupted);
+  EXPECT_EQ(calls, 1);  // asked once, before anything moved
+  const SolveResult r = d.solve(s.at(0.5), tick(true, 4));
+  EXPECT_TRUE(r.positions.allFinite());
+  EXPECT_LE(r.iterations, 4);
 }
