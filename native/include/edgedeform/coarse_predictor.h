@@ -6,10 +6,10 @@
 // solves K delta = b approximately with the coarse space, multiplicatively:
 //   delta = c + A^-1 (b - K c),   c = U (U^T K U)^-1 U^T b,
 // i.e. the plain step plus J_G c, with K linearized at y fitted anew (the handles moved).
-// The coarse operator U^T K U is lagged over several
-// predictions (its assembly is the costly part). Safeguard: the predicted point is kept only
-// if its |A (G(x) - x)| is below the start's (coarse_predictor.cpp says why not the plain
-// step's); otherwise y moves to the plain step, exactly as a warm solve without predictor.
+// U^T K U is lagged over several predictions (its assembly is the costly part).
+// Safeguard: the predicted point is kept only if its |A (G(x) - x)| is below the start's
+// (coarse_predictor.cpp says why not the plain step's); otherwise y moves to the plain
+// step, and the iterates are those of a warm solve without predictor.
 #pragma once
 
 #include "edgedeform/coarse_space.h"
