@@ -76,10 +76,12 @@ def core_ms(r):
     return float(r.local_ms + r.rhs_ms + r.solve_ms + r.coarse_ms)
 
 
-def tick(d, targets, budget, moving=False, predictor="none"):
+def tick(d, targets, budget, moving=False, predictor="none", verify_claims=False):
     chunks = []
     options = {} if predictor == "none" else {"coarse_predictor": True,
                                                "coarse_patches": PREDICTOR_PATCHES}
+    if verify_claims:
+        options["verify_claims"] = True
 
     def solve(n):
         chunks.append(d.solve(targets, max_iterations=n, tolerance=TOLERANCE,
@@ -93,7 +95,7 @@ def tick(d, targets, budget, moving=False, predictor="none"):
     return TickResult(chunks), wall
 
 
-def run(mesh, domain, lam, drag_ticks, log, predictor="none"):
+def run(mesh, domain, lam, drag_ticks, log, predictor="none", verify_claims=False):
     import edgedeform as ed
     from edgedeform.mesh_files import read_mesh
     V, F = read_mesh(mesh_path(MESHES[mesh]))
@@ -113,7 +115,7 @@ def run(mesh, domain, lam, drag_ticks, log, predictor="none"):
     drag = {"ticks": drag_ticks, "iterations": 0, "core_ms": 0.0, "predictions_kept": 0}
     for k in range(1, drag_ticks + 1):       # the mouse moves: new targets every tick
         r, _ = tick(d, V[handles] + (k / drag_ticks) * (final - V[handles]), budget, True,
-                    predictor)
+                    predictor, verify_claims)
         drag["iterations"] += r.iterations
         drag["core_ms"] += core_ms(r)
         drag["predictions_kept"] += r.predictions_kept
@@ -122,7 +124,7 @@ def run(mesh, domain, lam, drag_ticks, log, predictor="none"):
     rest = {"ticks": 0, "iterations": 0, "core_ms": 0.0, "wall_ms": 0.0, "cpu_ms": 0.0}
     c0 = time.process_time()
     while rest["ticks"] < MAX_SETTLE_TICKS:  # the mouse stopped
-        r, wall = tick(d, final, budget)
+        r, wall = tick(d, final, budget, verify_claims=verify_claims)
         rest["ticks"] += 1
         rest["iterations"] += r.iterations
         rest["core_ms"] += core_ms(r)
@@ -137,7 +139,7 @@ def run(mesh, domain, lam, drag_ticks, log, predictor="none"):
     rest["distance"] = float(np.linalg.norm(np.asarray(r.positions) - X_ref, axis=1).max() / dg)
     rest["ms_per_iteration"] = rest["core_ms"] / max(1, rest["iterations"])
     out = {"mesh": mesh, "vertices": len(V), "domain": domain, "lambda": lam,
-           "predictor": predictor,
+           "predictor": predictor, "verify_claims": verify_claims,
            "threads": os.environ.get("OMP_NUM_THREADS", "default"), "rate_memory": RATE_MEMORY,
            "finished": machine_info()["date"],
            "reference_iterations": ref_its, "reference_residual": ref_res,
@@ -203,9 +205,12 @@ def main(argv=None):
     ap.add_argument("--lam", default="0.5", help="stiffness λ (comma-separated: a row each)")
     ap.add_argument("--drag-ticks", type=int, default=30)
     ap.add_argument("--predictor", default="none", help="none,coarse (comma-separated)")
+    ap.add_argument("--verify-claims", action="store_true",
+                    help="solves check a convergence claim by Arnoldi on J_G first (verify_claims)")
     ap.add_argument("--json", default=str(HERE / "results" / "live_settle.json"))
     args = ap.parse_args(argv)
-    rows = [run(m, args.domain, float(lam), args.drag_ticks, lambda s: print(s, flush=True), p)
+    rows = [run(m, args.domain, float(lam), args.drag_ticks, lambda s: print(s, flush=True), p,
+                args.verify_claims)
             for m in args.mesh.split(",") for lam in args.lam.split(",")
             for p in args.predictor.split(",")]
     result = {"machine": machine_info(), "rows": rows,

@@ -57,6 +57,8 @@ void bind_deformer(py::module_& m) {
       .def_readonly("coarse_dimension", &SolveResult::coarse_dimension, "unknowns of the coarse space (0: none)")
       .def_readonly("coarse_factorizations", &SolveResult::coarse_factorizations, "coarse operators factored")
       .def_readonly("predictions", &SolveResult::predictions, "coarse predictor steps taken (coarse_predictor)")
+      .def_readonly("claim_checks", &SolveResult::claim_checks, "Arnoldi checks of a convergence claim (verify_claims)")
+      .def_readonly("refused_claims", &SolveResult::refused_claims, "... after which the claim was refused")
       .def_readonly("predictions_kept", &SolveResult::predictions_kept, "... of which the predicted point was kept")
       .def_readonly("linearize_ms", &SolveResult::linearize_ms, "total ms linearizing the local fit (Newton)")
       .def_readonly("coarse_ms", &SolveResult::coarse_ms, "total ms assembling and factoring coarse operators (Newton)")
@@ -131,7 +133,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
           "solve",
           [](Deformer& d, const TargetsArg& targets_arg, int max_iterations, double tolerance, bool warm_start,
              const OptionalPointsArg& initial_arg, const std::string& acceleration, int anderson_window,
-             int krylov_iterations, int coarse_patches, int coarse_blend, bool coarse_predictor) {
+             int krylov_iterations, int coarse_patches, int coarse_blend, bool coarse_predictor, bool verify_claims) {
             const py::handle& targets = targets_arg.obj;
             const py::handle& initial = initial_arg.obj;
             SolveOptions o;
@@ -144,6 +146,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
             o.coarse_patches = coarse_patches;
             o.coarse_blend = coarse_blend;
             o.coarse_predictor = coarse_predictor;
+            o.verify_claims = verify_claims;
             if (!initial.is_none()) o.initial = to_points(initial, "initial");
             RowMatrixX3d t = to_points(targets, "targets");
             SignalCheck signals;
@@ -163,6 +166,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
           py::arg("coarse_patches") = SolveOptions{}.coarse_patches,
           py::arg("coarse_blend") = SolveOptions{}.coarse_blend,
           py::arg("coarse_predictor") = SolveOptions{}.coarse_predictor,
+          py::arg("verify_claims") = SolveOptions{}.verify_claims,
           R"doc(Deforms the mesh so that the handles reach their targets.
 
 targets: (h, 3) one target per handle, in the order given to set_constraints.
@@ -185,6 +189,9 @@ coarse_blend: smoothing steps that blend those patches into a partition of unity
 coarse_predictor: live editing: a warm solve whose targets moved starts with one two-level
     Newton step over that coarse space (two global steps; needs coarse_patches > 0 and
     max_iterations >= 3), kept only if it lowers |A (G(x) - x)|.
+verify_claims: plain/Anderson: before claiming convergence, estimate J_G's largest modulus
+    by 30 Arnoldi steps at the point (each a back-substitution) and claim only if the
+    distance bound with it holds too (a secant estimate can miss a slow mode).
 Returns a SolveResult. Ctrl-C raises KeyboardInterrupt between iterations and leaves the
 Deformer usable.)doc")
       .def(

@@ -211,6 +211,7 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
     settings.diag = diag_;
     settings.descent = as.term_lambda.size() > 0 && as.term_lambda.minCoeff() >= 1.0;
     settings.accelerate = options.acceleration == Acceleration::Anderson;
+    settings.verify_claims = options.verify_claims;
     plain_anderson_solve(problem, settings, PlainAndersonPoint{it.y, fit, it.energy, it.continuable, it.plain}, result);
   }
 

@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "edgedeform/claim_check.h"
 #include "edgedeform/deformer.h"
 #include "edgedeform/errors.h"
 
@@ -77,6 +78,13 @@ void plain_anderson_solve(FixedPointProblem& problem, const PlainAndersonSetting
     m.monitor.add(y, m.g, map_pair);
     result.distance_estimate = map_pair ? m.monitor.distance(r) : std::numeric_limits<double>::infinity();
 
+    if (settings.verify_claims && result.distance_estimate < settings.tolerance &&
+        r > ConvergenceMonitor::kRoundoff) {  // a second opinion on the rate (claim_check.h)
+      ++result.claim_checks;
+      m.monitor.raise_rate(largest_jacobian_modulus(problem, fit, m.g - y));
+      result.distance_estimate = m.monitor.distance(r);
+      if (!(result.distance_estimate < settings.tolerance)) ++result.refused_claims;
+    }
     if (result.distance_estimate < settings.tolerance) {  // done: the result is the plain step
       y.swap(m.g);
       point.energy = problem.local_fit(y, fit);

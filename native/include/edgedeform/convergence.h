@@ -9,6 +9,7 @@
 // taking the largest of the recent ones, so that a slow mode seen lately is not forgotten.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <limits>
 
@@ -46,7 +47,10 @@ class ConvergenceMonitor {
   static constexpr double kSlowestRate = 0.9999;
 
   void resize(Eigen::Index rows);  // allocates the two copies; forgets everything
-  void reset() { has_last_ = false; count_ = 0; next_ = 0; min_ratios_ = kMinRatios; }
+  void reset() { has_last_ = false; count_ = 0; next_ = 0; min_ratios_ = kMinRatios; rate_floor_ = 0.0; }
+  // Until the next reset, the rate is at least `rho` (a claim check's estimate of J_G's
+  // largest modulus, claim_check.h), whatever the secant ratios say.
+  void raise_rate(double rho) { rate_floor_ = std::max(rate_floor_, rho); }
   // Until the next reset, no estimate before a full window of ratios: after a jump that
   // removed most of the slow mode (live editing's coarse predictor), the first ratios are
   // the fast modes' and the slow mode's show only later (measured: dino lift drag, 10
@@ -68,6 +72,7 @@ class ConvergenceMonitor {
   std::array<double, kWindow> ratios_{};
   int count_ = 0, next_ = 0;
   int min_ratios_ = kMinRatios;
+  double rate_floor_ = 0.0;
   bool has_last_ = false;
 };
 

@@ -55,6 +55,9 @@ struct SolveOptions {
   // (coarse_predictor.h) over the coarse space above (needs coarse_patches > 0 and
   // max_iterations >= 3: it takes two global steps).
   bool coarse_predictor = false;
+  // Plain/Anderson: before a convergence claim, estimate J_G's largest modulus by Arnoldi
+  // steps at the point (claim_check.h) and claim only if the bound with it holds too.
+  bool verify_claims = false;
   // Asked once per iteration (called from the solving thread); returning true stops the
   // solve with SolveInterrupted. The Python bindings check for Ctrl-C here, so the core
   // needs no Python.
@@ -74,6 +77,7 @@ struct SolveResult {
   int line_search_failures = 0;                 // Newton steps that gave way to plain steps
   int coarse_factorizations = 0, coarse_dimension = 0;  // of the coarse space (0: none)
   int predictions = 0, predictions_kept = 0;    // coarse predictor steps (coarse_predictor)
+  int claim_checks = 0, refused_claims = 0;     // verify_claims: checks made, claims refused
   double linearize_ms = 0.0, coarse_ms = 0.0, krylov_ms = 0.0;  // Newton-Krylov totals
   std::optional<double> initial_energy;         // energy of `initial`, when given
   bool converged = false;

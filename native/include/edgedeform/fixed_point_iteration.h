@@ -19,6 +19,7 @@ struct PlainAndersonSettings {
   double diag = 1.0;          // rest bounding-box diagonal
   bool descent = false;       // lambda = 1 on every term: E decides the Anderson safeguard
   bool accelerate = true;     // Anderson; false: plain steps only
+  bool verify_claims = false; // a claim is checked by Arnoldi on J_G first (claim_check.h)
 };
 
 // The strategy's state between calls: a warm solve with unchanged targets continues the

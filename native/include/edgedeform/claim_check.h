@@ -1,0 +1,31 @@
+// A second opinion on a convergence claim (docs/decisions/0025): the secant-rate estimate
+// can miss a slow mode that dominates the error but not the residual (the 50k koala's Live
+// settle claimed 9.4e-4 while 4.7e-3 away). At the claimed point, k Arnoldi steps on J_G
+// started from the residual give the largest Ritz value's modulus rho, and the bound
+// r rho / (1 - rho) on the plain step's distance to the fixed point.
+#pragma once
+
+#include <functional>
+
+#include <Eigen/Core>
+
+#include "edgedeform/newton_krylov.h"
+
+namespace edgedeform {
+
+// Arnoldi steps per check: k = 20 refused the koala's false claim and kept the cold
+// solve's true one (record 0025); 40 came closer to the slowest modulus at twice the cost.
+constexpr int kClaimCheckSteps = 30;
+
+// The largest Ritz value's modulus of `steps` Arnoldi steps on the map `apply` (out = M in,
+// #free x 3 blocks), started from `start`. 0 when start is zero.
+double largest_ritz_modulus(const std::function<void(const Eigen::MatrixXd&, Eigen::MatrixXd&)>& apply,
+                            const Eigen::MatrixXd& start, int steps);
+
+// rho at free positions y with fit = fit(y) (the problem's last local_fit was at y),
+// Krylov space started from `residual` (G(y) - y). 0 when the space is exhausted at once.
+// Deterministic; asks the problem's interrupt between products.
+double largest_jacobian_modulus(FixedPointProblem& problem, const LocalFit& fit, const Eigen::MatrixXd& residual,
+                                int steps = kClaimCheckSteps);
+
+}  // namespace edgedeform
