@@ -45,14 +45,14 @@ PredictorOutcome coarse_predict(FixedPointProblem& problem, const CoarseBasis& b
   problem.global_step(fit, rhs, g);
   ++result.iterations;
   ++out.evaluations;
-  out.residual_before = max_row_distance(g, y) / diag;
-  result.residuals.push_back(out.residual_before);
+  const double residual = max_row_distance(g, y) / diag;
+  result.residuals.push_back(residual);
   result.energies.push_back(energy);
   const Eigen::MatrixXd b = rhs - problem.A() * y;
 
   // The linearization at y with the handles where they are now.
   Eigen::MatrixXd prediction;
-  if (std::isfinite(out.residual_before)) {
+  if (std::isfinite(residual)) {
     LocalFit here = fit;
     problem.local_fit(y, here);
     const std::unique_ptr<FixedPointLinearization> lin = problem.linearize(here, false);
@@ -75,7 +75,7 @@ PredictorOutcome coarse_predict(FixedPointProblem& problem, const CoarseBasis& b
   // plain step's: that merit is dominated by the stiff, high-frequency part, which one plain
   // step removes and the patches' seams leave, and it cannot see the soft modes the
   // prediction carries (measured on the dino's lift drag at lambda 0.5, 30 ticks of 4
-  // iterations: predictions with 10x the plain step's |A F| ended the drag 1.3e-3 of the
+  // iterations: predictions with 3-10x the plain step's |A F| ended the drag 2.4e-3 of the
   // diagonal from the fixed point, against 2.9e-2 without them). On a flat grid's bend,
   // where the plain step is exact at once, the predictions' |A F| is 3x the start's.
   if (prediction.size() != 0) {
@@ -87,12 +87,10 @@ PredictorOutcome coarse_predict(FixedPointProblem& problem, const CoarseBasis& b
       fit = std::move(trial_fit);
       energy = trial_energy;
       out.kept = true;
-      out.residual_after = result.residuals.back();
       return out;
     }
   }
   // Rejected (or no coarse factor): the plain step from the warm fit, as without predictor.
-  out.residual_after = out.residual_before;
   y.swap(g);
   energy = problem.local_fit(y, fit);
   return out;

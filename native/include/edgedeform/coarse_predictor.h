@@ -34,8 +34,6 @@ constexpr int kPredictorLag = 8;
 struct PredictorOutcome {
   bool kept = false;            // the predicted point was kept (else y is the plain step)
   int evaluations = 0;          // global steps taken (counted in result.iterations)
-  double residual_before = 0.0;  // |G(y) - y|_inf / diag at the start
-  double residual_after = 0.0;   // ... at the kept point (the plain step's when rejected)
 };
 
 // fit: the warm fit on entry (where the handles were). Moves y (free vertices; the problem's
