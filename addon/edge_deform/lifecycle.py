@@ -177,12 +177,13 @@ class ObjectSolver:
     def targets(self):
         return engine.handle_targets(self.ob, self.binding.X, self.inputs)
 
-    def solve(self, targets, iterations, tolerance, warm=True, initial=None):
+    def solve(self, targets, iterations, tolerance, warm=True, initial=None, check_claims=True):
         """One solve; warm-starts from this binding's previous result when allowed (with
         unchanged targets that continues the same accelerated iteration, so a drag that
-        stops settles on the cold solve's shape)."""
+        stops settles on the cold solve's shape). check_claims: see Binding.solve."""
         return self.binding.solve(targets, iterations, tolerance,
-                                  engine.acceleration(self.ob.edge_deform), warm, initial)
+                                  engine.acceleration(self.ob.edge_deform), warm, initial,
+                                  check_claims)
 
     def settings_changed(self):
         """Follow a change of the global λ or the domain (Live Deform's keys)."""

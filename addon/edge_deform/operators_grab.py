@@ -134,10 +134,11 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.delta = self.offset()
         targets = np.concatenate([self.start + self.delta, self.pinned])
 
-        def solve(n):
+        def solve(n, check_claims):
             initial = self.current if self.first else None
             self.first = False
-            return self.solver.solve(targets, n, s.tolerance, warm=True, initial=initial)
+            return self.solver.solve(targets, n, s.tolerance, warm=True, initial=initial,
+                                     check_claims=check_claims)
         try:
             r = self.settle.tick(solve, moving)
             self.solver.write(r.positions)

@@ -128,7 +128,8 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                 return
             targets = self.solver.targets()
             s = ob.edge_deform
-            r = self.settle.tick(lambda n: self.solver.solve(targets, n, s.tolerance),
+            r = self.settle.tick(lambda n, check: self.solver.solve(targets, n, s.tolerance,
+                                                                    check_claims=check),
                                  moving=self.settle.iterations == 0)
             self.solver.write(r.positions)
         except Exception as exc:  # noqa: BLE001 - shown, and retried on the next change

@@ -9,6 +9,12 @@ when Blender took longer than that between two ticks (a software-GL redraw of a 
 takes 0.6-1.9 s), as long as Blender took, up to a cap. So slow redraws do not throttle
 the solve: the solver gets at least half of the wall time. The cap is lower while the
 targets move (the artist waits for the next frame) than while they stand still.
+
+"Settled" needs a checked claim: a tick whose targets stand still asks the solver to check
+a convergence claim against J_G's slowest mode first (the core's verify_claims: without
+it Live called the 50k koala settled 4.7e-3 of its size away, docs/decisions/0025). A
+tick whose targets move does not ask (the check costs about 30 iterations: a drag would
+stutter), so its claim stays "settling…" until the next still tick has checked it.
 """
 
 import math
@@ -51,8 +57,8 @@ class Settle:
     """One tool's settle bookkeeping: the solver's measured speed, the time Blender takes
     between ticks, and the iterations and wall time since the last change of the targets.
 
-    Each tick: `tick(solve, moving)` with solve(n) -> a SolveResult of n more warm
-    iterations. It calls solve in chunks until the tick's budget is spent, the solve
+    Each tick: `tick(solve, moving)` with solve(n, check_claims) -> a SolveResult of n
+    more warm iterations. It calls solve in chunks until the tick's budget is spent, the solve
     settled, or the give-up limit is reached, and returns the last result."""
 
     def __init__(self, limit=None, clock=time.perf_counter):
@@ -71,6 +77,7 @@ class Settle:
         self.started = None          # when the first tick after the change began
         self.waited_ms = 0.0         # wall time from that tick to the last result
         self.result = None
+        self.claims_checked = False  # the last result's solve call checked its claim
 
     def new_graph(self):
         """A new graph has its own speed: measure again."""
@@ -83,7 +90,7 @@ class Settle:
 
     @property
     def settled(self):
-        return self.result is not None and is_settled(self.result)
+        return self.result is not None and self.claims_checked and is_settled(self.result)
 
     @property
     def gave_up(self):
@@ -107,12 +114,13 @@ class Settle:
         if self.started is None:
             self.started = now
         budget = self.budget_ms(moving, now)
+        check = not moving
         spent, result = 0.0, None
         while True:
             n = iterations_within(budget - spent, self.ms_per_iteration,
                                   most=max(1, self.limit - self.iterations))
             t0 = self.clock()
-            result = solve(n)
+            result = solve(n, check)
             ms = (self.clock() - t0) * 1e3
             done = max(1, int(result.iterations))
             self.ms_per_iteration = ms / done
@@ -120,6 +128,7 @@ class Settle:
             self.iterations += int(result.iterations)
             self.solve_ms += ms
             self.result = result
+            self.claims_checked = check
             if self.at_rest or result.iterations < n:
                 break
             if budget - spent < LEAST_ITERATIONS * self.ms_per_iteration:

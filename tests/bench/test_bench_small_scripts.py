@@ -50,12 +50,20 @@ def test_same_positions_agrees_with_itself_and_catches_a_change(tmp_path):
 
 def test_live_settle_replay_on_spot(tmp_path):
     out = tmp_path / "settle.json"
-    run("bench_live_settle.py", "--mesh", "spot", "--drag-ticks", "5", "--json", out)
-    (row,) = load(out)["rows"]
-    assert row["mesh"] == "spot" and row["vertices"] == 829 and row["drag"]["ticks"] == 5
-    s = row["settle"]
-    assert s["converged"] and s["ticks"] > 0 and s["iterations"] > 0
-    assert finite(s["core_ms"], s["wall_ms"], s["estimate"], s["distance"]) and s["distance"] < 2e-3
+    run("bench_live_settle.py", "--mesh", "spot", "--drag-ticks", "5", "--claims",
+        "checked,unchecked", "--json", out)
+    checked, unchecked = load(out)["rows"]
+    for row in (checked, unchecked):
+        assert row["mesh"] == "spot" and row["vertices"] == 829 and row["drag"]["ticks"] == 5
+        s = row["settle"]
+        assert s["converged"] and s["ticks"] > 0 and s["iterations"] > 0
+        assert finite(s["core_ms"], s["wall_ms"], s["estimate"], s["distance"], s["longest_tick_ms"])
+        assert s["distance"] < 2e-3
+    assert (checked["claims"], unchecked["claims"]) == ("checked", "unchecked")
+    # The add-on's policy checks the settle's claim (unless a round-off fixed point); the
+    # old one never does.
+    assert checked["settle"]["claim_checks"] >= 1 or checked["settle"]["estimate"] <= 1e-9
+    assert unchecked["settle"]["claim_checks"] == 0
 
 
 @pytest.mark.skipif(shutil.which("valgrind") is None, reason="valgrind is not installed")

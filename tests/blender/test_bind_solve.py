@@ -41,7 +41,9 @@ def api_solve(X, F, handle, static, targets, lam, domain="edge", iterations=20, 
     d = ed.Deformer(X.astype(float), F, domain=domain)
     d.set_constraints(handles=handle, static=static, roi=None)
     d.set_stiffness(lam)
-    return d.solve(targets, max_iterations=iterations, tolerance=tol, warm_start=False)
+    # verify_claims: as the add-on's solves (session.Binding.solve)
+    return d.solve(targets, max_iterations=iterations, tolerance=tol, warm_start=False,
+                   verify_claims=True)
 
 
 def test_solve_matches_api():
@@ -323,14 +325,17 @@ def test_solve_names_a_graph_rebuild():
 
 
 class _Results:
-    """solve(n) for settle.Settle: real warm solves of the plane, n iterations each."""
+    """solve(n, check_claims) for settle.Settle: real warm solves of the plane, n
+    iterations each; records the calls' results."""
 
     def __init__(self, d, targets, tol):
         self.d, self.targets, self.tol = d, targets, tol
+        self.results = []
 
-    def __call__(self, n):
-        return self.d.solve(self.targets, max_iterations=n, tolerance=self.tol,
-                            warm_start=True)
+    def __call__(self, n, check_claims):
+        self.results.append(self.d.solve(self.targets, max_iterations=n, tolerance=self.tol,
+                                         warm_start=True, verify_claims=check_claims))
+        return self.results[-1]
 
 
 def test_modal_tools_stop_settling_at_the_limit():
@@ -343,10 +348,12 @@ def test_modal_tools_stop_settling_at_the_limit():
     d = ed.Deformer(rest, F, domain="edge")
     d.set_constraints(handles=handle, static=static)
     d.set_stiffness(0.5)
-    done = settle.Settle(limit=5000)
+    done, calls = settle.Settle(limit=5000), _Results(d, T, 1e-3)
     while not done.at_rest:
-        done.tick(_Results(d, T, 1e-3), moving=False)
+        done.tick(calls, moving=False)
     assert done.settled and done.result.converged
+    # The still ticks' claim was checked by the core (or is a fixed point to round-off).
+    assert done.result.claim_checks >= 1 or done.result.residuals[-1] <= 1e-9
     text = settle.describe(done, "move a controller")
     assert text.startswith("settled, %d iterations" % done.iterations), text
     d.set_constraints(handles=handle, static=static)   # (a new solve)
@@ -401,9 +408,29 @@ def test_acceleration_choices_follow_the_package():
         assert engine.acceleration(s) == dict(engine.ACCELERATIONS)[item]
 
 
+def test_solves_check_their_convergence_claim():
+    """The add-on's solves ask the core to check a convergence claim against J_G's slowest
+    mode (verify_claims, docs/decisions/0025) unless told not to (a drag tick): the same
+    shape, the check counted."""
+    from edge_deform import lifecycle
+    ob, V, F, handle, static, ctrl = plane_setup("plane_claims")
+    ob.edge_deform.iterations = 2000
+    move(ctrl)
+    solver, checked = lifecycle.deform(ob)
+    assert checked.converged and checked.claim_checks >= 1, (checked.converged, checked.claim_checks)
+    assert checked.refused_claims < checked.claim_checks   # the last check kept the claim
+    unchecked = solver.solve(solver.targets(), 2000, ob.edge_deform.tolerance, warm=False,
+                             check_claims=False)
+    assert unchecked.converged and unchecked.claim_checks == 0
+    assert unchecked.iterations <= checked.iterations
+    diag = np.linalg.norm(np.ptp(V, axis=0))
+    apart = np.linalg.norm(checked.positions - unchecked.positions, axis=1).max() / diag
+    assert apart <= 2 * ob.edge_deform.tolerance, apart
+
+
 if __name__ == "__main__":
     run([test_solve_matches_api, test_output_mesh_keeps_rest, test_settings_change_rebinds,
          test_stiffness_group, test_quads_and_ngons, test_object_transform_and_warm_start,
          test_topology_change_never_wrong, test_bad_input_cancels, test_apply_and_unbind,
          test_solve_names_a_graph_rebuild, test_modal_tools_stop_settling_at_the_limit,
-         test_acceleration_choices_follow_the_package])
+         test_acceleration_choices_follow_the_package, test_solves_check_their_convergence_claim])

@@ -38,16 +38,18 @@ class Clock:
 
 
 class Solver:
-    """solve(n): n iterations at ms_per_iteration each; converges after `converge_at`
-    iterations in all (None: never). Records the calls."""
+    """solve(n, check_claims): n iterations at ms_per_iteration each; converges after
+    `converge_at` iterations in all (None: never). Records the calls and whether each
+    asked for its claim to be checked."""
 
     def __init__(self, clock, ms_per_iteration, converge_at=None, estimate=0.01):
         self.clock, self.ms = clock, ms_per_iteration
         self.converge_at, self.estimate = converge_at, estimate
-        self.done, self.calls = 0, []
+        self.done, self.calls, self.checks = 0, [], []
 
-    def __call__(self, n):
+    def __call__(self, n, check_claims):
         self.calls.append(n)
+        self.checks.append(check_claims)
         if self.converge_at is not None:
             n = max(0, min(n, self.converge_at - self.done))
         self.done += n
@@ -131,6 +133,27 @@ def test_settled_only_when_the_solver_says_converged():
     assert text.endswith("0.1 s"), text
     s.changed()
     assert not s.settled and s.iterations == 0
+
+
+def test_a_claim_while_the_targets_move_is_checked_before_settled():
+    """A drag tick does not pay for the claim check; its claim is only "settling…" until
+    the next still tick, whose call asks for the check, makes it "settled"."""
+    clock = Clock()
+    s = settle.Settle(clock=clock)
+    solver = Solver(clock, ms_per_iteration=1.0, converge_at=12)
+    s.tick(solver, moving=True)
+    assert solver.checks and not any(solver.checks), solver.checks   # no check while moving
+    assert s.result.converged and not s.settled and not s.at_rest
+    assert settle.describe(s, "move").startswith("settling…"), settle.describe(s, "move")
+    clock.now += 0.02
+    calls = len(solver.calls)
+    s.tick(solver, moving=False)
+    assert solver.checks[calls:] == [True] * (len(solver.calls) - calls)
+    assert s.settled and s.at_rest
+    assert settle.describe(s, "move").startswith("settled"), settle.describe(s, "move")
+    s.changed()                           # the targets move again: unchecked once more
+    s.tick(solver, moving=True)
+    assert s.result.converged and not s.settled
 
 
 def test_give_up_at_the_limit_and_say_so():
