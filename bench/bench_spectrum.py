@@ -11,13 +11,19 @@ For each cell: the reference (a cold default solve, tolerance 1e-10, at most 600
 iterations), then Arnoldi with products J v taken by finite differences of the package's own
 one-step map (`solve(..., max_iterations=1, initial=x, acceleration="none")`) at that point.
 Reported: the largest Ritz moduli, how many exceed 0.99 / 0.999 / 1, and the Arnoldi residual
-of the largest (how well that value is resolved). With --spread, the reference is also
+of the largest (how well that value is resolved). With --radius K, for the K largest: how
+far Newton's linear model of G holds along that eigenvector v (max row |v| = diag): the
+second difference |G(x + hv) + G(x - hv) - 2 G(x)| = c h^2 gives the model's error c h^2 / 2
+at a step h, which equals the step's own term |(I - J) hv| = |1 - mu| h at h* = 2 |1 - mu| / c:
+beyond h* (a fraction of the diagonal) a Newton step along that mode is mostly model error.
+With --spread, the reference is also
 computed in child processes with 1 and with 2 solver threads, and the two end points compared
 (round-off differs between them, nothing else).
 
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_spectrum.py [--steps 100] [--spread]
-        [--cells koala:lift:edge:1,head:lift:edge:0.5] [--json bench/results/spectrum.json]
-Writes bench/results/spectrum.json; bench/report.py puts the table into docs/benchmarks.md.
+        [--cells koala:lift:edge:1,head:lift:edge:0.5] [--radius 3]
+        [--json bench/results/spectrum.json]
+Writes bench/results/spectrum.json; bench/report.py puts the tables into docs/benchmarks_solver.md.
 """
 import argparse
 import json
@@ -41,6 +47,9 @@ DEFAULT_CELLS = ("spot:lift:edge:0.5,dino:lift:edge:0.5,head:lift:edge:1,head:li
                  "head:lift:edge:0,koala:lift:edge:1,koala:lift:edge:0.5")
 REFERENCE_BUDGET = 6000
 FD_STEP = 1e-5  # finite-difference step, / diag: far above round-off, far below the nonlinearity
+# Steps of --radius's second differences, / diag: two, so the table shows c is a constant
+# there (not round-off, not a kink of the fit).
+RADIUS_STEPS = (1e-3, 3e-3)
 
 
 def mesh_path(name):
@@ -89,7 +98,25 @@ def arnoldi(G, x, free, dg, steps, seed=0):
     theta, S = np.linalg.eig(H[:steps, :steps])
     order = np.argsort(-np.abs(theta))
     resid = np.abs(H[steps, steps - 1] * S[steps - 1, :])
-    return np.abs(theta[order]), resid[order]
+    vectors = (Q[:steps].T @ S[:, order]).real  # (a complex pair: a vector of its plane)
+    return theta[order], resid[order], vectors
+
+
+def model_radius(G, x, free, dg, mu, v):
+    """Along v (free coordinates, scaled to max row |v| = dg): the second difference's
+    constant c per step of RADIUS_STEPS and h* = 2 |1 - mu| / c (/ diag), see the docstring."""
+    v = v.reshape(-1, 3)
+    v = v * (dg / np.linalg.norm(v, axis=1).max())
+    g0 = G(x)
+    out = {"gap": float(abs(1.0 - mu)), "curvature": []}
+    for h in RADIUS_STEPS:
+        plus, minus = x.copy(), x.copy()
+        plus[free] += h * v
+        minus[free] -= h * v
+        second = (G(plus) + G(minus) - 2.0 * g0)[free]
+        out["curvature"].append(float(np.linalg.norm(second, axis=1).max() / dg / h ** 2))
+    out["radius"] = 2.0 * out["gap"] / out["curvature"][0]
+    return out
 
 
 def child_reference(cell_text, threads, out):
@@ -100,7 +127,7 @@ def child_reference(cell_text, threads, out):
     return z["X"], int(z["iterations"]), float(z["residual"])
 
 
-def run_cell(ed, cell_text, steps, spread, log):
+def run_cell(ed, cell_text, steps, spread, log, radius=0):
     name, edit_name, domain, lam = cell_text.split(":")
     cell = (name, edit_name, domain, float(lam))
     d, targets, free, dg = problem(ed, cell)
@@ -114,7 +141,12 @@ def run_cell(ed, cell_text, steps, spread, log):
         return np.asarray(d.solve(targets, max_iterations=1, tolerance=0.0, warm_start=False,
                                   initial=x, acceleration="none").positions)
     row["one_step_residual"] = float(np.abs(G(X) - X).max() / dg)
-    mod, resid = arnoldi(G, X, free, dg, steps)
+    theta, resid, vectors = arnoldi(G, X, free, dg, steps)
+    mod = np.abs(theta)
+    if radius:
+        row["model_radius"] = [dict(model_radius(G, X, free, dg, theta[i], vectors[:, i]),
+                                    modulus=float(mod[i]), arnoldi_residual=float(resid[i]))
+                               for i in range(min(radius, len(theta)))]
     row.update(top=[float(m) for m in mod[:8]], top_arnoldi_residual=float(resid[0]),
                above_099=int((mod > 0.99).sum()), above_0999=int((mod > 0.999).sum()),
                above_1=int((mod > 1.0 + 1e-4).sum()))
@@ -156,6 +188,26 @@ def markdown(result):
             f"| {cell_label(r)} | {r['free']:,} | {ref} | {r['one_step_residual']:.0e} | "
             f"{', '.join(f'{t:.4f}' for t in r['top'][:4])} | {r['top_arnoldi_residual']:.0e} | "
             f"{r['above_099']} | {r['above_0999']} | {r['above_1']} | {spread} |")
+    radius_rows = [r for r in result["rows"] if r.get("model_radius")]
+    if radius_rows:
+        lines += [
+            "",
+            "How far Newton's linear model of G holds along the slowest modes (`--radius`): "
+            "for each of the largest Ritz pairs (μ, v), v scaled to a largest vertex "
+            "displacement of one diagonal, c from the second difference "
+            "|G(x+hv) + G(x−hv) − 2G(x)| = c h² at h = "
+            + " and ".join(f"{h:g}" for h in RADIUS_STEPS) + " of the diagonal; h* = 2|1 − μ|/c "
+            "is the step (/ diag) beyond which the model's error c h²/2 exceeds the step's own "
+            "term |1 − μ| h: farther out, a Newton step along that mode is mostly model error.",
+            "",
+            "| cell | modulus | Arnoldi residual | 1 − μ | c at the two steps | h* / diag |",
+            "|---|---|---|---|---|---|",
+        ]
+        for r in radius_rows:
+            for m in r["model_radius"]:
+                lines.append(f"| {cell_label(r)} | {m['modulus']:.4f} | {m['arnoldi_residual']:.0e} | "
+                             f"{m['gap']:.1e} | {' / '.join(f'{c:.2g}' for c in m['curvature'])} | "
+                             f"{m['radius']:.1e} |")
     return "\n".join(lines)
 
 
@@ -163,6 +215,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--cells", default=DEFAULT_CELLS, help="mesh:edit:domain:lambda,...")
     ap.add_argument("--steps", type=int, default=100, help="Arnoldi steps per cell")
+    ap.add_argument("--radius", type=int, default=0,
+                    help="for this many of the largest Ritz pairs, how far Newton's model holds")
     ap.add_argument("--spread", action="store_true",
                     help="also compare references computed with 1 and 2 solver threads")
     ap.add_argument("--json", default=str(HERE / "results" / "spectrum.json"))
@@ -180,7 +234,7 @@ def main(argv=None):
               "command": "bench/bench_spectrum.py " + " ".join(argv or sys.argv[1:])}
     for cell_text in args.cells.split(","):
         result["rows"].append(run_cell(ed, cell_text, args.steps, args.spread,
-                                       lambda s: print(s, flush=True)))
+                                       lambda s: print(s, flush=True), args.radius))
     Path(args.json).parent.mkdir(parents=True, exist_ok=True)
     Path(args.json).write_text(json.dumps(result, indent=1))
     print(markdown(result))

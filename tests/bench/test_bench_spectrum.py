@@ -40,3 +40,37 @@ def test_largest_modulus_is_the_observed_contraction(tmp_path):
     rate = (res[-1] / res[-101]) ** (1.0 / 100)
     assert res[-1] > 1e-12  # still above round-off, so the ratio is the mode's
     assert abs(rate - row["top"][0]) < 0.01, (rate, row["top"])
+
+
+def test_model_radius_is_where_the_linear_model_fails(tmp_path):
+    """--radius: c is a constant over its two steps (a second derivative, not noise), and
+    the linear model's measured error along the slowest mode at h is c h^2 / 2 (so, at
+    h*, the step's own term |1 - mu| h*), as the table says."""
+    out = tmp_path / "spectrum.json"
+    bench_spectrum.main(["--cells", CELL, "--steps", "40", "--radius", "2", "--json", str(out)])
+    row = json.loads(out.read_text())["rows"][0]
+    first = row["model_radius"][0]
+    assert len(row["model_radius"]) == 2 and abs(first["modulus"] - row["top"][0]) < 1e-12
+    c_small, c_large = first["curvature"]
+    assert c_small > 0 and abs(c_large / c_small - 1) < 0.1, first["curvature"]
+    assert first["radius"] == 2 * first["gap"] / c_small
+    table = bench_spectrum.markdown({"machine": {}, "steps": 40, "rows": [row]})
+    assert f"| spot lift edge λ 0.5 | {first['modulus']:.4f} |" in table
+
+    # Apart: the linearization's error along the slowest Ritz vector at h*/2, measured.
+    import edgedeform as ed
+    name, edit_name, domain, lam = CELL.split(":")
+    d, targets, free, dg = bench_spectrum.problem(ed, (name, edit_name, domain, float(lam)))
+    X, *_ = bench_spectrum.reference(d, targets)
+
+    def G(x):
+        return np.asarray(d.solve(targets, max_iterations=1, tolerance=0.0, warm_start=False,
+                                  initial=x, acceleration="none").positions)
+    theta, _, vectors = bench_spectrum.arnoldi(G, X, free, dg, 40)
+    v = vectors[:, 0].reshape(-1, 3)
+    v = v * (dg / np.linalg.norm(v, axis=1).max())
+    h = first["radius"] / 2
+    moved = X.copy()
+    moved[free] += h * v
+    error = np.linalg.norm((G(moved) - G(X))[free] - h * theta[0].real * v, axis=1).max() / dg
+    assert 0.5 < error / (c_small * h * h / 2) < 2.0, (error, c_small * h * h / 2)

@@ -38,7 +38,7 @@ def test_a_missing_result_is_said_and_a_stale_page_is_caught(tmp_path):
     docs = tmp_path / "docs"
     docs.mkdir()
     assert report.main(["--results", str(results), "--docs", str(docs)]) == 0
-    text = (docs / "benchmarks.md").read_text()
+    text = (docs / "benchmarks_solver.md").read_text()
     assert "Not measured: `bench/results/spectrum.json` is missing" in text
     assert report.main(["--results", str(BENCH / "results"), "--docs", str(docs), "--check"]) == 1
 
