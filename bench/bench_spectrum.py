@@ -42,6 +42,7 @@ sys.path.insert(0, str(HERE))
 from bench_convergence import SAMPLES  # noqa: E402
 from edits import diagonal, edit, mesh_path as find_mesh  # noqa: E402
 from machine import machine_info  # noqa: E402
+from rotation_coordinates import RotationCoordinates, largest_row  # noqa: E402
 
 DEFAULT_CELLS = ("spot:lift:edge:0.5,dino:lift:edge:0.5,head:lift:edge:1,head:lift:edge:0.5,"
                  "head:lift:edge:0,koala:lift:edge:1,koala:lift:edge:0.5")
@@ -102,9 +103,12 @@ def arnoldi(G, x, free, dg, steps, seed=0):
     return theta[order], resid[order], vectors
 
 
-def model_radius(G, x, free, dg, mu, v):
+def model_radius(G, x, free, dg, mu, v, coords=None):
     """Along v (free coordinates, scaled to max row |v| = dg): the second difference's
-    constant c per step of RADIUS_STEPS and h* = 2 |1 - mu| / c (/ diag), see the docstring."""
+    constant c per step of RADIUS_STEPS and h* = 2 |1 - mu| / c (/ diag), see the docstring.
+    With `coords` (rotation_coordinates.RotationCoordinates at x): the same in rotation
+    coordinates along v's direction there, and how much each term's rotation turns per
+    diagonal moved along v (median, 99.9th percentile, largest)."""
     v = v.reshape(-1, 3)
     v = v * (dg / np.linalg.norm(v, axis=1).max())
     g0 = G(x)
@@ -116,6 +120,15 @@ def model_radius(G, x, free, dg, mu, v):
         second = (G(plus) + G(minus) - 2.0 * g0)[free]
         out["curvature"].append(float(np.linalg.norm(second, axis=1).max() / dg / h ** 2))
     out["radius"] = 2.0 * out["gap"] / out["curvature"][0]
+    if coords is not None:
+        dz = coords.direction(free, v)   # per diagonal moved (max row of v = dg)
+        z0 = coords.psi(np.zeros_like(dz))
+        second = [largest_row(coords.psi(h * dz) + coords.psi(-h * dz) - 2.0 * z0) / h ** 2
+                  for h in RADIUS_STEPS]
+        turn = np.linalg.norm(dz[:, :3], axis=1)
+        out["rotations"] = {"curvature": second, "radius": 2.0 * out["gap"] * largest_row(dz) / second[0],
+                            "turn_median": float(np.median(turn)),
+                            "turn_999": float(np.quantile(turn, 0.999)), "turn_max": float(turn.max())}
     return out
 
 
@@ -144,7 +157,8 @@ def run_cell(ed, cell_text, steps, spread, log, radius=0):
     theta, resid, vectors = arnoldi(G, X, free, dg, steps)
     mod = np.abs(theta)
     if radius:
-        row["model_radius"] = [dict(model_radius(G, X, free, dg, theta[i], vectors[:, i]),
+        coords = RotationCoordinates(d, X) if hasattr(d, "_global_step") else None
+        row["model_radius"] = [dict(model_radius(G, X, free, dg, theta[i], vectors[:, i], coords),
                                     modulus=float(mod[i]), arnoldi_residual=float(resid[i]))
                                for i in range(min(radius, len(theta)))]
     row.update(top=[float(m) for m in mod[:8]], top_arnoldi_residual=float(resid[0]),
@@ -188,11 +202,17 @@ def markdown(result):
             f"| {cell_label(r)} | {r['free']:,} | {ref} | {r['one_step_residual']:.0e} | "
             f"{', '.join(f'{t:.4f}' for t in r['top'][:4])} | {r['top_arnoldi_residual']:.0e} | "
             f"{r['above_099']} | {r['above_0999']} | {r['above_1']} | {spread} |")
+    return "\n".join(lines)
+
+
+def radius_markdown(result):
+    """The --radius table (docs/benchmarks_solver.md has it as a section of its own)."""
+    lines = []
     radius_rows = [r for r in result["rows"] if r.get("model_radius")]
     if radius_rows:
         lines += [
-            "",
-            "How far Newton's linear model of G holds along the slowest modes (`--radius`): "
+            f"Arnoldi with {result['steps']} products at each cell's reference, as in the "
+            "spectrum section. How far Newton's linear model of G holds along the slowest modes (`--radius`): "
             "for each of the largest Ritz pairs (μ, v), v scaled to a largest vertex "
             "displacement of one diagonal, c from the second difference "
             "|G(x+hv) + G(x−hv) − 2G(x)| = c h² at h = "
@@ -200,15 +220,26 @@ def markdown(result):
             "is the step (/ diag) beyond which the model's error c h²/2 exceeds the step's own "
             "term |1 − μ| h: farther out, a Newton step along that mode is mostly model error.",
             "",
-            "| cell | modulus | Arnoldi residual | 1 − μ | c at the two steps | h* / diag |",
-            "|---|---|---|---|---|---|",
+            "In rotation coordinates (the per-term rotations and scales a Newton method on the "
+            "rotations would step in, `bench/rotation_coordinates.py`): the same measure along "
+            "v's direction there, in the largest term's norm; 'turn' = how far each term's "
+            "rotation turns (radians) per diagonal moved along v: median / 99.9th percentile / "
+            "largest (a large one is a node whose rotation its arcs barely determine).",
+            "",
+            "| cell | modulus | Arnoldi residual | 1 − μ | c at the two steps | h* / diag | "
+            "rotations: c | rotations: h* / diag | turn per diagonal |",
+            "|---|---|---|---|---|---|---|---|---|",
         ]
         for r in radius_rows:
             for m in r["model_radius"]:
+                rot = m.get("rotations")
+                rot_cells = (f"{' / '.join(f'{c:.2g}' for c in rot['curvature'])} | {rot['radius']:.1e} | "
+                             f"{rot['turn_median']:.2g} / {rot['turn_999']:.2g} / {rot['turn_max']:.2g}"
+                             if rot else "– | – | –")
                 lines.append(f"| {cell_label(r)} | {m['modulus']:.4f} | {m['arnoldi_residual']:.0e} | "
                              f"{m['gap']:.1e} | {' / '.join(f'{c:.2g}' for c in m['curvature'])} | "
-                             f"{m['radius']:.1e} |")
-    return "\n".join(lines)
+                             f"{m['radius']:.1e} | {rot_cells} |")
+    return "\n".join(lines) if lines else "No cell of this run was measured with --radius."
 
 
 def main(argv=None):
@@ -238,6 +269,7 @@ def main(argv=None):
     Path(args.json).parent.mkdir(parents=True, exist_ok=True)
     Path(args.json).write_text(json.dumps(result, indent=1))
     print(markdown(result))
+    print(radius_markdown(result))
 
 
 if __name__ == "__main__":

@@ -55,6 +55,8 @@ PAGES = {
          "bench_newton_diagnostics:table"),
         ("How slowly do the slowest modes contract?",
          "spectrum.json", "bench/bench_spectrum.py", "bench_spectrum:markdown"),
+        ("How far from the fixed point does Newton's linear model hold?",
+         "newton_radius.json", "bench/bench_spectrum.py --radius 3", "bench_spectrum:radius_markdown"),
     ]),
     "benchmarks_peers.md": ("Benchmarks against other deformers", [
         ("Per iteration, precompute and memory against CGAL, libigl and Blender",

@@ -247,6 +247,31 @@ Deformer usable.)doc")
            },
            py::arg("X"), py::arg("dX"), py::arg("newton_operator") = false,
            "J_G dX at X (analytic), or K dX = A (I - J_G) dX with newton_operator")
+      .def("_local_fit",
+           [](Deformer& d, const py::handle& X) {
+             const LocalFit fit = d.local_fit_at(to_points(X, "X"));
+             py::array_t<double> R({static_cast<py::ssize_t>(fit.rotation.size()), py::ssize_t{3}, py::ssize_t{3}});
+             auto r = R.mutable_unchecked<3>();
+             for (size_t t = 0; t < fit.rotation.size(); ++t)
+               for (int i = 0; i < 3; ++i)
+                 for (int j = 0; j < 3; ++j) r(static_cast<py::ssize_t>(t), i, j) = fit.rotation[t](i, j);
+             return py::make_tuple(R, Eigen::VectorXd(fit.scale));
+           },
+           "(rotations (#terms, 3, 3), scales (#terms,)) of the local fit at X")
+      .def("_global_step",
+           [](Deformer& d, const py::handle& X, const py::array_t<double, py::array::c_style | py::array::forcecast>& R,
+              const Eigen::VectorXd& scale) {
+             if (R.ndim() != 3 || R.shape(1) != 3 || R.shape(2) != 3)
+               throw std::invalid_argument("rotations must be a (#terms, 3, 3) array");
+             std::vector<Eigen::Matrix3d> rotation(static_cast<size_t>(R.shape(0)));
+             auto r = R.unchecked<3>();
+             for (size_t t = 0; t < rotation.size(); ++t)
+               for (int i = 0; i < 3; ++i)
+                 for (int j = 0; j < 3; ++j) rotation[t](i, j) = r(static_cast<py::ssize_t>(t), i, j);
+             return d.global_step_with(to_points(X, "X"), rotation, scale);
+           },
+           py::arg("X"), py::arg("rotations"), py::arg("scales"),
+           "the global step's free positions (#free, 3) for these rotations and scales, X's fixed rows")
       .def("_coarse_basis_coo", [](Deformer& d, int patches, int blend) { return to_coo(d.coarse_basis_matrix(patches, blend)); },
            py::arg("patches"), py::arg("blend") = 0)
       .def("_coarse_operator_coo",

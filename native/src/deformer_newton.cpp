@@ -91,6 +91,32 @@ Eigen::MatrixXd Deformer::one_step_map(const RowMatrixX3d& X) {
   return g;
 }
 
+LocalFit Deformer::local_fit_at(const RowMatrixX3d& X) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  RowMatrixX3d x_local;
+  LocalFit fit;
+  prepare_point(X, x_local, fit);
+  return fit;
+}
+
+Eigen::MatrixXd Deformer::global_step_with(const RowMatrixX3d& X, const std::vector<Eigen::Matrix3d>& rotation,
+                                           const Eigen::VectorXd& scale) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  RowMatrixX3d x_local;
+  LocalFit fit;
+  const Eigen::MatrixXd c = prepare_point(X, x_local, fit);
+  if (rotation.size() != fit.rotation.size() || scale.size() != fit.scale.size())
+    throw std::invalid_argument("expected " + std::to_string(fit.rotation.size()) + " rotations and scales, got " +
+                                std::to_string(rotation.size()) + " and " + std::to_string(scale.size()));
+  for (const Eigen::Matrix3d& R : rotation)
+    if (!R.allFinite()) throw std::invalid_argument("rotations must be finite");
+  if (!scale.allFinite()) throw std::invalid_argument("scales must be finite");
+  Eigen::MatrixXd rhs, g;
+  assembled_->H.apply(rotation, scale, c, rhs);
+  factors_.factor().solve(rhs, g);
+  return g;
+}
+
 Eigen::MatrixXd Deformer::jacobian_product(const RowMatrixX3d& X, const Eigen::MatrixXd& dX, bool newton_operator) {
   std::lock_guard<std::mutex> lock(mutex_);
   RowMatrixX3d x_local;

@@ -54,8 +54,12 @@ def test_model_radius_is_where_the_linear_model_fails(tmp_path):
     c_small, c_large = first["curvature"]
     assert c_small > 0 and abs(c_large / c_small - 1) < 0.1, first["curvature"]
     assert first["radius"] == 2 * first["gap"] / c_small
-    table = bench_spectrum.markdown({"machine": {}, "steps": 40, "rows": [row]})
+    table = bench_spectrum.radius_markdown({"machine": {}, "steps": 40, "rows": [row]})
     assert f"| spot lift edge λ 0.5 | {first['modulus']:.4f} |" in table
+    rotations = first["rotations"]   # (this build has the inspection calls it needs)
+    assert abs(rotations["curvature"][1] / rotations["curvature"][0] - 1) < 0.1
+    assert 0 < rotations["turn_median"] <= rotations["turn_999"] <= rotations["turn_max"]
+    assert f"{rotations['radius']:.1e}" in table
 
     # Apart: the linearization's error along the slowest Ritz vector at h*/2, measured.
     import edgedeform as ed
@@ -74,3 +78,33 @@ def test_model_radius_is_where_the_linear_model_fails(tmp_path):
     moved[free] += h * v
     error = np.linalg.norm((G(moved) - G(X))[free] - h * theta[0].real * v, axis=1).max() / dg
     assert 0.5 < error / (c_small * h * h / 2) < 2.0, (error, c_small * h * h / 2)
+
+
+def test_rotation_coordinates_carry_the_same_slow_mode():
+    """bench/rotation_coordinates.py: exp and log invert each other; at the fixed point psi(0)
+    is 0 to the reference's precision, and along the slowest position mode's direction
+    there psi multiplies by the same eigenvalue mu (J_G and D_R A^-1 B share it)."""
+    from rotation_coordinates import RotationCoordinates, exp_so3, largest_row, log_so3
+    w = np.random.default_rng(2).normal(scale=0.5, size=(50, 3))
+    R = exp_so3(w)
+    assert np.abs(np.swapaxes(R, 1, 2) @ R - np.eye(3)).max() < 1e-12
+    assert np.abs(np.linalg.det(R) - 1).max() < 1e-12 and np.abs(log_so3(R) - w).max() < 1e-10
+
+    import edgedeform as ed
+    name, edit_name, domain, lam = CELL.split(":")
+    d, targets, free, dg = bench_spectrum.problem(ed, (name, edit_name, domain, float(lam)))
+    X, *_ = bench_spectrum.reference(d, targets)
+
+    def G(x):
+        return np.asarray(d.solve(targets, max_iterations=1, tolerance=0.0, warm_start=False,
+                                  initial=x, acceleration="none").positions)
+    theta, _, vectors = bench_spectrum.arnoldi(G, X, free, dg, 40)
+    coords = RotationCoordinates(d, X)
+    z0 = coords.psi(np.zeros((len(coords.s), 4)))
+    assert largest_row(z0) < 1e-7, largest_row(z0)
+    v = vectors[:, 0].reshape(-1, 3)
+    dz = coords.direction(free, v * (dg / np.linalg.norm(v, axis=1).max()))
+    h = 1e-5
+    image = (coords.psi(h * dz) - coords.psi(-h * dz)) / (2 * h)
+    assert largest_row(image - theta[0].real * dz) < 1e-3 * largest_row(dz)
+    assert largest_row(image - 0.9 * theta[0].real * dz) > 0.05 * largest_row(dz)  # (not any factor)

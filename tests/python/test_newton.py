@@ -67,6 +67,26 @@ def test_analytic_jacobian_matches_central_differences(domain, lam):
     assert np.linalg.norm(J - fd) <= 1e-5 * np.linalg.norm(fd)
 
 
+@pytest.mark.parametrize("domain", DOMAINS)
+def test_local_fit_and_global_step_are_the_two_halves_of_one_step(domain):
+    """_global_step(X, *_local_fit(X)) is G(X) bit for bit; other rotations give another
+    shape; a wrong count or a non-finite rotation is refused with the count named."""
+    d, V, F, t = _deformer(SPOT, domain, 0.5)
+    X = d.solve(t, max_iterations=15, acceleration="none").positions
+    R, scale = d._local_fit(X)
+    assert R.shape == (len(scale), 3, 3) and np.abs(np.linalg.det(R) - 1).max() < 1e-9
+    assert np.array_equal(d._global_step(X, R, scale), d._one_step(X))
+    turned = R.copy()
+    turned[:, :, [0, 1]] = turned[:, :, [1, 0]]   # (not rotations: the step must still follow)
+    assert np.abs(d._global_step(X, turned, scale) - d._one_step(X)).max() > 1e-3 * diag(V)
+    with pytest.raises(ValueError, match=f"expected {len(scale)} rotations"):
+        d._global_step(X, R[:-1], scale[:-1])
+    bad = R.copy()
+    bad[3, 0, 0] = np.nan
+    with pytest.raises(ValueError, match="finite"):
+        d._global_step(X, bad, scale)
+
+
 def test_analytic_jacobian_with_clamped_scales():
     # lambda 0 and a strong squash: some node scales sit on their lower bound (local_step.h)
     V, F = load(SPOT)

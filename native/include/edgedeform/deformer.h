@@ -113,6 +113,13 @@ class Deformer {
   Eigen::MatrixXd one_step_map(const RowMatrixX3d& X);  // G(X)
   // J_G dX, or K dX = A (I - J_G) dX with `newton_operator`.
   Eigen::MatrixXd jacobian_product(const RowMatrixX3d& X, const Eigen::MatrixXd& dX, bool newton_operator);
+  // The two halves of G, for diagnostics in other coordinates (bench_spectrum.py
+  // --rotations): the local fit at X (R_i, s_i per energy term), and the global step's free
+  // positions for given R_i, s_i, the fixed rows taken from X. global_step_with(X,
+  // local_fit_at(X)) is G(X).
+  LocalFit local_fit_at(const RowMatrixX3d& X);
+  Eigen::MatrixXd global_step_with(const RowMatrixX3d& X, const std::vector<Eigen::Matrix3d>& rotation,
+                                   const Eigen::VectorXd& scale);
   // U (3 #free x k; row v + #free c is coordinate c of free vertex v), and U^T K U at X.
   SparseMatrix coarse_basis_matrix(int patches, int blend = 0);
   SparseMatrix coarse_operator_at(const RowMatrixX3d& X, int patches, int blend = 0);
