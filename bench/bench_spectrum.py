@@ -76,6 +76,14 @@ def reference(d, targets):
     return np.asarray(r.positions), r.iterations, float(r.residuals[-1]), bool(r.converged)
 
 
+def one_step_map(d, targets):
+    """G over full shapes: one plain step of the package from x (its own map, not a copy)."""
+    def G(x):
+        return np.asarray(d.solve(targets, max_iterations=1, tolerance=0.0, warm_start=False,
+                                  initial=x, acceleration="none").positions)
+    return G
+
+
 def arnoldi(G, x, free, dg, steps, seed=0):
     """Ritz values of J = dG/dx at x (free coordinates), and the Arnoldi residual of each."""
     g0 = G(x)
@@ -150,9 +158,7 @@ def run_cell(ed, cell_text, steps, spread, log, radius=0):
            "free": int(free.sum()), "reference_iterations": its, "reference_residual": res,
            "reference_converged": conv, "reference_s": time.time() - t0, "steps": steps}
 
-    def G(x):
-        return np.asarray(d.solve(targets, max_iterations=1, tolerance=0.0, warm_start=False,
-                                  initial=x, acceleration="none").positions)
+    G = one_step_map(d, targets)
     row["one_step_residual"] = float(np.abs(G(X) - X).max() / dg)
     theta, resid, vectors = arnoldi(G, X, free, dg, steps)
     mod = np.abs(theta)

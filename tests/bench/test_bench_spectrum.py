@@ -5,6 +5,7 @@ its Markdown table reads."""
 import json
 import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -14,6 +15,22 @@ sys.path.insert(0, str(ROOT / "bench"))
 import bench_spectrum  # noqa: E402
 
 CELL = "spot:lift:edge:0.5"
+
+
+def fixed_point(steps=None):
+    """CELL's deformer, free mask, diagonal, reference X and map G; with `steps`, also the
+    slowest Arnoldi pair (mu, v), v scaled to a largest row of one diagonal."""
+    import edgedeform as ed
+    name, edit_name, domain, lam = CELL.split(":")
+    d, targets, free, dg = bench_spectrum.problem(ed, (name, edit_name, domain, float(lam)))
+    X, *_ = bench_spectrum.reference(d, targets)
+    cell = SimpleNamespace(d=d, targets=targets, free=free, dg=dg, X=X,
+                           G=bench_spectrum.one_step_map(d, targets))
+    if steps:
+        theta, _, vectors = bench_spectrum.arnoldi(cell.G, X, free, dg, steps)
+        v = vectors[:, 0].reshape(-1, 3)
+        cell.mu, cell.v = theta[0].real, v * (dg / np.linalg.norm(v, axis=1).max())
+    return cell
 
 
 def test_largest_modulus_is_the_observed_contraction(tmp_path):
@@ -28,13 +45,10 @@ def test_largest_modulus_is_the_observed_contraction(tmp_path):
 
     # Perturb the fixed point and iterate plainly: the residual's asymptotic ratio per
     # iteration is the largest modulus of the map's Jacobian there.
-    import edgedeform as ed
-    name, edit_name, domain, lam = CELL.split(":")
-    d, targets, free, dg = bench_spectrum.problem(ed, (name, edit_name, domain, float(lam)))
-    X, *_ = bench_spectrum.reference(d, targets)
-    start = X.copy()
-    start[free] += 1e-4 * dg * np.random.default_rng(1).standard_normal((int(free.sum()), 3))
-    r = d.solve(targets, max_iterations=300, tolerance=0.0, warm_start=False, initial=start,
+    c = fixed_point()
+    start = c.X.copy()
+    start[c.free] += 1e-4 * c.dg * np.random.default_rng(1).standard_normal((int(c.free.sum()), 3))
+    r = c.d.solve(c.targets, max_iterations=300, tolerance=0.0, warm_start=False, initial=start,
                 acceleration="none")
     res = np.asarray(r.residuals)
     rate = (res[-1] / res[-101]) ** (1.0 / 100)
@@ -62,21 +76,11 @@ def test_model_radius_is_where_the_linear_model_fails(tmp_path):
     assert f"{rotations['radius']:.1e}" in table
 
     # Apart: the linearization's error along the slowest Ritz vector at h*/2, measured.
-    import edgedeform as ed
-    name, edit_name, domain, lam = CELL.split(":")
-    d, targets, free, dg = bench_spectrum.problem(ed, (name, edit_name, domain, float(lam)))
-    X, *_ = bench_spectrum.reference(d, targets)
-
-    def G(x):
-        return np.asarray(d.solve(targets, max_iterations=1, tolerance=0.0, warm_start=False,
-                                  initial=x, acceleration="none").positions)
-    theta, _, vectors = bench_spectrum.arnoldi(G, X, free, dg, 40)
-    v = vectors[:, 0].reshape(-1, 3)
-    v = v * (dg / np.linalg.norm(v, axis=1).max())
+    c = fixed_point(steps=40)
     h = first["radius"] / 2
-    moved = X.copy()
-    moved[free] += h * v
-    error = np.linalg.norm((G(moved) - G(X))[free] - h * theta[0].real * v, axis=1).max() / dg
+    moved = c.X.copy()
+    moved[c.free] += h * c.v
+    error = np.linalg.norm((c.G(moved) - c.G(c.X))[c.free] - h * c.mu * c.v, axis=1).max() / c.dg
     assert 0.5 < error / (c_small * h * h / 2) < 2.0, (error, c_small * h * h / 2)
 
 
@@ -90,21 +94,12 @@ def test_rotation_coordinates_carry_the_same_slow_mode():
     assert np.abs(np.swapaxes(R, 1, 2) @ R - np.eye(3)).max() < 1e-12
     assert np.abs(np.linalg.det(R) - 1).max() < 1e-12 and np.abs(log_so3(R) - w).max() < 1e-10
 
-    import edgedeform as ed
-    name, edit_name, domain, lam = CELL.split(":")
-    d, targets, free, dg = bench_spectrum.problem(ed, (name, edit_name, domain, float(lam)))
-    X, *_ = bench_spectrum.reference(d, targets)
-
-    def G(x):
-        return np.asarray(d.solve(targets, max_iterations=1, tolerance=0.0, warm_start=False,
-                                  initial=x, acceleration="none").positions)
-    theta, _, vectors = bench_spectrum.arnoldi(G, X, free, dg, 40)
-    coords = RotationCoordinates(d, X)
+    c = fixed_point(steps=40)
+    coords = RotationCoordinates(c.d, c.X)
     z0 = coords.psi(np.zeros((len(coords.s), 4)))
     assert largest_row(z0) < 1e-7, largest_row(z0)
-    v = vectors[:, 0].reshape(-1, 3)
-    dz = coords.direction(free, v * (dg / np.linalg.norm(v, axis=1).max()))
+    dz = coords.direction(c.free, c.v)
     h = 1e-5
     image = (coords.psi(h * dz) - coords.psi(-h * dz)) / (2 * h)
-    assert largest_row(image - theta[0].real * dz) < 1e-3 * largest_row(dz)
-    assert largest_row(image - 0.9 * theta[0].real * dz) > 0.05 * largest_row(dz)  # (not any factor)
+    assert largest_row(image - c.mu * dz) < 1e-3 * largest_row(dz)
+    assert largest_row(image - 0.9 * c.mu * dz) > 0.05 * largest_row(dz)  # (not any factor)
