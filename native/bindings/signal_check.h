@@ -18,6 +18,7 @@ class SignalCheck {
   // this, and a fast iteration loop pays nothing measurable.
   explicit SignalCheck(std::chrono::milliseconds interval = std::chrono::milliseconds(50));
   // For SolveOptions::interrupt_requested; called without the GIL, from the solving thread.
+  // True from the first time a signal's handler raised until raise_pending.
   std::function<bool()> callback();
   // After the core stopped (SolveInterrupted), with the GIL held: raises the Python error
   // the signal handler set (KeyboardInterrupt for Ctrl-C).

@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from _meshes import DATA, DINO, lift, load
 
@@ -30,7 +31,8 @@ d.set_stiffness(0.5)
 d.solve(targets, max_iterations=2)  # factor now, so that the long solve below only iterates
 print("solving", flush=True)
 try:
-    r = d.solve(targets, max_iterations=10**8, tolerance=0.0, warm_start=False)
+    r = d.solve(targets, max_iterations=10**8, tolerance=0.0, warm_start=False,
+                acceleration=sys.argv[1])
     print(json.dumps({"finished": int(r.iterations)}), flush=True)
     sys.exit(3)
 except KeyboardInterrupt:
@@ -58,8 +60,10 @@ def _interrupt_after(proc, seconds):
     return sent
 
 
-def test_keyboard_interrupt_stops_a_long_solve_and_the_deformer_still_works():
-    proc = _start([sys.executable, "-c", CHILD])
+@pytest.mark.parametrize("acceleration", ["anderson", "newton"])
+def test_keyboard_interrupt_stops_a_long_solve_and_the_deformer_still_works(acceleration):
+    """Newton too (issue 20): its Krylov products, line search and coarse assembly ask."""
+    proc = _start([sys.executable, "-c", CHILD, acceleration])
     try:
         assert proc.stdout.readline().strip() == "solving", proc.stderr.read()
         sent = _interrupt_after(proc, 0.4)
