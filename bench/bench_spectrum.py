@@ -51,6 +51,12 @@ FD_STEP = 1e-5  # finite-difference step, / diag: far above round-off, far below
 # Steps of --radius's second differences, / diag: two, so the table shows c is a constant
 # there (not round-off, not a kink of the fit).
 RADIUS_STEPS = (1e-3, 3e-3)
+# c counts as a constant when the two steps' values agree this well.
+CONSTANT_CURVATURE = 0.2
+# In rotation coordinates the larger step turns no term by more than this (radians): a
+# term whose rotation its arcs barely determine turns thousands of radians per diagonal
+# moved, and past pi the coordinates wrap.
+ROTATION_TURN = 0.05
 
 
 def mesh_path(name):
@@ -111,32 +117,46 @@ def arnoldi(G, x, free, dg, steps, seed=0):
     return theta[order], resid[order], vectors
 
 
-def model_radius(G, x, free, dg, mu, v, coords=None):
+def curvature_and_radius(second_difference, steps, gap, size):
+    """c at each step (|second difference| / h^2) and h* = 2 gap size / c, or None when c
+    is not a constant over the steps (within CONSTANT_CURVATURE): then the steps are past
+    a kink or a wrap, and c is no second derivative."""
+    c = [second_difference(h) / h ** 2 for h in steps]
+    constant = abs(c[0] / c[1] - 1.0) <= CONSTANT_CURVATURE if c[1] > 0 else False
+    return c, (2.0 * gap * size / c[0] if constant else None)
+
+
+def model_radius(G, x, free, dg, mu, v, coords):
     """Along v (free coordinates, scaled to max row |v| = dg): the second difference's
     constant c per step of RADIUS_STEPS and h* = 2 |1 - mu| / c (/ diag), see the docstring.
-    With `coords` (rotation_coordinates.RotationCoordinates at x): the same in rotation
-    coordinates along v's direction there, and how much each term's rotation turns per
-    diagonal moved along v (median, 99.9th percentile, largest)."""
+    The same in rotation coordinates (coords: rotation_coordinates.RotationCoordinates at
+    x) along v's direction there, with steps that turn no term by more than ROTATION_TURN,
+    and how much each term's rotation turns per diagonal moved along v (median, 99.9th
+    percentile, largest)."""
     v = v.reshape(-1, 3)
     v = v * (dg / np.linalg.norm(v, axis=1).max())
     g0 = G(x)
-    out = {"gap": float(abs(1.0 - mu)), "curvature": []}
-    for h in RADIUS_STEPS:
+
+    def in_positions(h):
         plus, minus = x.copy(), x.copy()
         plus[free] += h * v
         minus[free] -= h * v
-        second = (G(plus) + G(minus) - 2.0 * g0)[free]
-        out["curvature"].append(float(np.linalg.norm(second, axis=1).max() / dg / h ** 2))
-    out["radius"] = 2.0 * out["gap"] / out["curvature"][0]
-    if coords is not None:
-        dz = coords.direction(free, v)   # per diagonal moved (max row of v = dg)
-        z0 = coords.psi(np.zeros_like(dz))
-        second = [largest_row(coords.psi(h * dz) + coords.psi(-h * dz) - 2.0 * z0) / h ** 2
-                  for h in RADIUS_STEPS]
-        turn = np.linalg.norm(dz[:, :3], axis=1)
-        out["rotations"] = {"curvature": second, "radius": 2.0 * out["gap"] * largest_row(dz) / second[0],
-                            "turn_median": float(np.median(turn)),
-                            "turn_999": float(np.quantile(turn, 0.999)), "turn_max": float(turn.max())}
+        return float(np.linalg.norm((G(plus) + G(minus) - 2.0 * g0)[free], axis=1).max() / dg)
+    gap = float(abs(1.0 - mu))
+    curvature, radius = curvature_and_radius(in_positions, RADIUS_STEPS, gap, 1.0)
+    out = {"gap": gap, "curvature": curvature, "radius": radius}
+
+    dz = coords.direction(free, v)   # per diagonal moved (max row of v = dg)
+    z0 = coords.psi(np.zeros_like(dz))
+    turn = np.linalg.norm(dz[:, :3], axis=1)
+    largest = min(RADIUS_STEPS[-1], ROTATION_TURN / float(turn.max()))
+    steps = (largest / 3.0, largest)
+    curvature, radius = curvature_and_radius(
+        lambda h: largest_row(coords.psi(h * dz) + coords.psi(-h * dz) - 2.0 * z0), steps, gap,
+        largest_row(dz))
+    out["rotations"] = {"steps": list(steps), "curvature": curvature, "radius": radius,
+                        "turn_median": float(np.median(turn)),
+                        "turn_999": float(np.quantile(turn, 0.999)), "turn_max": float(turn.max())}
     return out
 
 
@@ -163,10 +183,12 @@ def run_cell(ed, cell_text, steps, spread, log, radius=0):
     theta, resid, vectors = arnoldi(G, X, free, dg, steps)
     mod = np.abs(theta)
     if radius:
-        coords = RotationCoordinates(d, X) if hasattr(d, "_global_step") else None
+        coords = RotationCoordinates(d, X)
+        # One row per real mode or complex pair (the pair's second member repeats the first).
+        modes = [i for i in range(len(theta)) if theta[i].imag >= 0][:radius]
         row["model_radius"] = [dict(model_radius(G, X, free, dg, theta[i], vectors[:, i], coords),
                                     modulus=float(mod[i]), arnoldi_residual=float(resid[i]))
-                               for i in range(min(radius, len(theta)))]
+                               for i in modes]
     row.update(top=[float(m) for m in mod[:8]], top_arnoldi_residual=float(resid[0]),
                above_099=int((mod > 0.99).sum()), above_0999=int((mod > 0.999).sum()),
                above_1=int((mod > 1.0 + 1e-4).sum()))
@@ -213,38 +235,47 @@ def markdown(result):
 
 def radius_markdown(result):
     """The --radius table (docs/benchmarks_solver.md has it as a section of its own)."""
+    def radius(value):
+        return "–" if value is None else f"{value:.1e}"
+
+    def constants(values):
+        return " / ".join(f"{c:.2g}" for c in values)
     lines = []
     radius_rows = [r for r in result["rows"] if r.get("model_radius")]
     if radius_rows:
         lines += [
             f"Arnoldi with {result['steps']} products at each cell's reference, as in the "
-            "spectrum section. How far Newton's linear model of G holds along the slowest modes (`--radius`): "
-            "for each of the largest Ritz pairs (μ, v), v scaled to a largest vertex "
-            "displacement of one diagonal, c from the second difference "
-            "|G(x+hv) + G(x−hv) − 2G(x)| = c h² at h = "
+            "spectrum section (one row per real mode or complex pair). How far Newton's linear "
+            "model of G holds along the slowest modes (`--radius`): for each of the largest "
+            "Ritz pairs (μ, v), v scaled to a largest vertex displacement of one diagonal, c "
+            "from the second difference |G(x+hv) + G(x−hv) − 2G(x)| = c h² at h = "
             + " and ".join(f"{h:g}" for h in RADIUS_STEPS) + " of the diagonal; h* = 2|1 − μ|/c "
             "is the step (/ diag) beyond which the model's error c h²/2 exceeds the step's own "
-            "term |1 − μ| h: farther out, a Newton step along that mode is mostly model error.",
+            "term |1 − μ| h: farther out, a Newton step along that mode is mostly model error. "
+            f"h* is '–' where the two c differ by more than {CONSTANT_CURVATURE:.0%} (not a "
+            "second derivative at these steps: a kink of the fit).",
             "",
             "In rotation coordinates (the per-term rotations and scales a Newton method on the "
             "rotations would step in, `bench/rotation_coordinates.py`): the same measure along "
-            "v's direction there, in the largest term's norm; 'turn' = how far each term's "
+            "v's direction there, in the largest term's norm, with steps h/3 and h chosen so that "
+            f"no term turns by more than {ROTATION_TURN:g} rad; 'turn' = how far each term's "
             "rotation turns (radians) per diagonal moved along v: median / 99.9th percentile / "
             "largest (a large one is a node whose rotation its arcs barely determine).",
             "",
-            "| cell | modulus | Arnoldi residual | 1 − μ | c at the two steps | h* / diag | "
-            "rotations: c | rotations: h* / diag | turn per diagonal |",
-            "|---|---|---|---|---|---|---|---|---|",
+            "| cell | modulus | Arnoldi residual | distance of μ from 1 | c at the two steps | "
+            "h* / diag | rotations: steps h/3, h | rotations: c | rotations: h* / diag | "
+            "turn per diagonal |",
+            "|---|---|---|---|---|---|---|---|---|---|",
         ]
         for r in radius_rows:
             for m in r["model_radius"]:
-                rot = m.get("rotations")
-                rot_cells = (f"{' / '.join(f'{c:.2g}' for c in rot['curvature'])} | {rot['radius']:.1e} | "
-                             f"{rot['turn_median']:.2g} / {rot['turn_999']:.2g} / {rot['turn_max']:.2g}"
-                             if rot else "– | – | –")
-                lines.append(f"| {cell_label(r)} | {m['modulus']:.4f} | {m['arnoldi_residual']:.0e} | "
-                             f"{m['gap']:.1e} | {' / '.join(f'{c:.2g}' for c in m['curvature'])} | "
-                             f"{m['radius']:.1e} | {rot_cells} |")
+                rot = m["rotations"]
+                lines.append(
+                    f"| {cell_label(r)} | {m['modulus']:.4f} | {m['arnoldi_residual']:.0e} | "
+                    f"{m['gap']:.1e} | {constants(m['curvature'])} | {radius(m['radius'])} | "
+                    f"{' / '.join(f'{h:.1e}' for h in rot['steps'])} | {constants(rot['curvature'])} | "
+                    f"{radius(rot['radius'])} | "
+                    f"{rot['turn_median']:.2g} / {rot['turn_999']:.2g} / {rot['turn_max']:.2g} |")
     return "\n".join(lines) if lines else "No cell of this run was measured with --radius."
 
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Write docs/benchmarks.md and docs/benchmarks_peers.md from bench/results/*.json.
+"""Write docs/benchmarks.md, benchmarks_solver.md and benchmarks_peers.md from bench/results/*.json.
 
 The pages hold today's figures only: one section per question, each headed by the date,
 the machine and the command of the run it shows, with the table the benchmark script

@@ -10,11 +10,13 @@ takes 0.6-1.9 s), as long as Blender took, up to a cap. So slow redraws do not t
 the solve: the solver gets at least half of the wall time. The cap is lower while the
 targets move (the artist waits for the next frame) than while they stand still.
 
-"Settled" needs a checked claim: a tick whose targets stand still asks the solver to check
-a convergence claim against J_G's slowest mode first (the core's verify_claims: without
-it Live called the 50k koala settled 4.7e-3 of its size away, docs/decisions/0025). A
-tick whose targets move does not ask (the check costs about 30 iterations: a drag would
-stutter), so its claim stays "settling…" until the next still tick has checked it.
+"Settled" needs a claim made in a call that asked for the check: a tick whose targets stand
+still asks the solver to check a convergence claim against J_G's slowest mode first (the
+core's verify_claims, for the plain and Anderson methods: without it Live called the 50k
+koala settled 4.7e-3 of its size away, docs/decisions/0025; Newton's claim is its own
+tightly solved last step). A tick whose targets move does not ask (the check costs about
+30 iterations: a drag would stutter), so its claim stays "settling…" until the next still
+tick has asked. A claim after no iteration at all (nothing free to move) is exact.
 """
 
 import math
@@ -35,7 +37,8 @@ LEAST_ITERATIONS = 2
 
 
 def is_settled(result):
-    """The one "settled" rule: the solver's own distance estimate says converged."""
+    """The solver's own distance estimate says converged (Settle.settled also needs the
+    call to have asked for the claim's check)."""
     return bool(result.converged)
 
 
@@ -77,7 +80,7 @@ class Settle:
         self.started = None          # when the first tick after the change began
         self.waited_ms = 0.0         # wall time from that tick to the last result
         self.result = None
-        self.claims_checked = False  # the last result's solve call checked its claim
+        self.check_requested = False  # the last result's solve call asked to check a claim
 
     def new_graph(self):
         """A new graph has its own speed: measure again."""
@@ -90,11 +93,16 @@ class Settle:
 
     @property
     def settled(self):
-        return self.result is not None and self.claims_checked and is_settled(self.result)
+        return self.result is not None and self.check_requested and is_settled(self.result)
+
+    @property
+    def claim_unchecked(self):
+        """Converged in a call that did not ask for the check: one more call must ask."""
+        return self.result is not None and is_settled(self.result) and not self.check_requested
 
     @property
     def gave_up(self):
-        return not self.settled and self.iterations >= self.limit
+        return not self.settled and not self.claim_unchecked and self.iterations >= self.limit
 
     @property
     def at_rest(self):
@@ -122,16 +130,16 @@ class Settle:
             t0 = self.clock()
             result = solve(n, check)
             ms = (self.clock() - t0) * 1e3
-            done = max(1, int(result.iterations))
-            self.ms_per_iteration = ms / done
+            if not getattr(result, "claim_checks", 0):   # a check's time is not an iteration's
+                self.ms_per_iteration = ms / max(1, int(result.iterations))
             spent += ms
             self.iterations += int(result.iterations)
             self.solve_ms += ms
             self.result = result
-            self.claims_checked = check
-            if self.at_rest or result.iterations < n:
+            self.check_requested = check or int(result.iterations) == 0
+            if self.at_rest or result.iterations < n or is_settled(result):
                 break
-            if budget - spent < LEAST_ITERATIONS * self.ms_per_iteration:
+            if budget - spent < LEAST_ITERATIONS * (self.ms_per_iteration or 0.0):
                 break
         self.last_tick_end = self.clock()
         self.waited_ms = (self.last_tick_end - self.started) * 1e3

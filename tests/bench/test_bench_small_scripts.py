@@ -60,9 +60,8 @@ def test_live_settle_replay_on_spot(tmp_path):
         assert finite(s["core_ms"], s["wall_ms"], s["estimate"], s["distance"], s["longest_tick_ms"])
         assert s["distance"] < 2e-3
     assert (checked["claims"], unchecked["claims"]) == ("checked", "unchecked")
-    # The add-on's policy checks the settle's claim (unless a round-off fixed point); the
-    # old one never does.
-    assert checked["settle"]["claim_checks"] >= 1 or checked["settle"]["estimate"] <= 1e-9
+    # The add-on's policy checks the settle's claim; the old one never does.
+    assert checked["settle"]["claim_checks"] >= 1
     assert unchecked["settle"]["claim_checks"] == 0
 
 

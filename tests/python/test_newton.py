@@ -81,6 +81,10 @@ def test_local_fit_and_global_step_are_the_two_halves_of_one_step(domain):
     assert np.abs(d._global_step(X, turned, scale) - d._one_step(X)).max() > 1e-3 * diag(V)
     with pytest.raises(ValueError, match=f"expected {len(scale)} rotations"):
         d._global_step(X, R[:-1], scale[:-1])
+    with pytest.raises(ValueError, match=f"expected {len(scale)} rotations and scales"):
+        d._global_step(X, R, scale[:-1])
+    with pytest.raises(ValueError, match="rotations must be a"):
+        d._global_step(X, R[:, :2, :], scale)
     bad = R.copy()
     bad[3, 0, 0] = np.nan
     with pytest.raises(ValueError, match="finite"):

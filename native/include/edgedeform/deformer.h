@@ -113,10 +113,10 @@ class Deformer {
   Eigen::MatrixXd one_step_map(const RowMatrixX3d& X);  // G(X)
   // J_G dX, or K dX = A (I - J_G) dX with `newton_operator`.
   Eigen::MatrixXd jacobian_product(const RowMatrixX3d& X, const Eigen::MatrixXd& dX, bool newton_operator);
-  // The two halves of G, for diagnostics in other coordinates (bench_spectrum.py
-  // --rotations): the local fit at X (R_i, s_i per energy term), and the global step's free
-  // positions for given R_i, s_i, the fixed rows taken from X. global_step_with(X,
-  // local_fit_at(X)) is G(X).
+  // The two halves of G, for diagnostics in other coordinates (bench_spectrum.py --radius,
+  // bench/rotation_coordinates.py): the local fit at X (R_i, s_i per energy term), and the
+  // global step's free positions for given R_i, s_i, the fixed rows taken from X.
+  // global_step_with(X, local_fit_at(X)) is G(X).
   LocalFit local_fit_at(const RowMatrixX3d& X);
   Eigen::MatrixXd global_step_with(const RowMatrixX3d& X, const std::vector<Eigen::Matrix3d>& rotation,
                                    const Eigen::VectorXd& scale);
