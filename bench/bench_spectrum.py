@@ -91,7 +91,8 @@ def one_step_map(d, targets):
 
 
 def arnoldi(G, x, free, dg, steps, seed=0):
-    """Ritz values of J = dG/dx at x (free coordinates), and the Arnoldi residual of each."""
+    """Ritz values of J = dG/dx at x (free coordinates, largest modulus first), the Arnoldi
+    residual of each, and their Ritz vectors as columns (real parts)."""
     g0 = G(x)
     n = int(free.sum()) * 3
     Q = np.zeros((steps + 1, n))
@@ -141,7 +142,7 @@ def model_radius(G, x, free, dg, mu, v, coords):
         plus, minus = x.copy(), x.copy()
         plus[free] += h * v
         minus[free] -= h * v
-        return float(np.linalg.norm((G(plus) + G(minus) - 2.0 * g0)[free], axis=1).max() / dg)
+        return largest_row((G(plus) + G(minus) - 2.0 * g0)[free]) / dg
     gap = float(abs(1.0 - mu))
     curvature, radius = curvature_and_radius(in_positions, RADIUS_STEPS, gap, 1.0)
     out = {"gap": gap, "curvature": curvature, "radius": radius}
