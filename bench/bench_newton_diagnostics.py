@@ -104,11 +104,17 @@ def coo_matrix(t):
     return sp.csr_matrix((vals, (rows, cols)), shape=tuple(shape))
 
 
-def system_matrix(d, free):
-    """A at lambda = 1 over the free coordinates: 2 (N^T L N)_ff on each coordinate."""
+def system_matrix(d, free, lam=1.0):
+    """A at a uniform lambda over the free coordinates, on each coordinate: the 1-form arcs
+    2 lambda (N^T L N)_ff plus the Laplacian rows (1 - lambda) ((L N)^T (L N))_ff (edge domain,
+    where no similarity share is added; a_identity_error checks it against the core's K)."""
     N = coo_matrix(d._node_matrix_coo())
     L = coo_matrix(d._laplacian_coo())
-    A = (2.0 * (N.T @ L @ N)).tocsr()[free][:, free]
+    A = 2.0 * lam * (N.T @ L @ N)
+    if lam != 1.0:
+        LN = L @ N
+        A = A + (1.0 - lam) * (LN.T @ LN)
+    A = A.tocsr()[free][:, free]
     return sp.block_diag([A, A, A], format="csr"), A
 
 
