@@ -64,6 +64,7 @@ ROTATION_TURN = 0.05
 # this many plain steps (which remove the stiff error a straight step puts on a turning part).
 NEWTON_FROM = (3e-4, 3e-3, 1e-2, 3e-2)
 VALLEY_STEPS = 20
+LINE_SEARCH_HALVINGS = 6   # at lambda = 1: step lengths 1 ... 1/64 tried on the energy
 
 
 def mesh_path(name):
@@ -242,16 +243,39 @@ class SoftSplit:
         return out
 
 
+def energy_line_search(d, X, free, dg, x0, delta, after_plain):
+    """At lambda = 1, from x0 along the Newton step delta: E - E* (E* = E(X)) before, after
+    the full step and after the plain step that follows it (after_plain); the first step
+    length of 1, 1/2, ... 1/2^LINE_SEARCH_HALVINGS that lowers E (0: none) and the distance
+    to X (/ diag) there."""
+    def energy(x):
+        return float(d.energy(x))
+
+    def moved(alpha):
+        x = x0.copy()
+        x[free] += alpha * delta
+        return x
+    star, e0 = energy(X), energy(x0)
+    out = {"energy_before": e0 - star, "energy_after": energy(moved(1.0)) - star,
+           "energy_after_plain": energy(after_plain) - star, "accepted_step": 0.0,
+           "after_accepted": largest_row((x0 - X)[free]) / dg}
+    for k in range(LINE_SEARCH_HALVINGS + 1):
+        x = moved(0.5 ** k)
+        if energy(x) < e0:
+            out.update(accepted_step=0.5 ** k, after_accepted=largest_row((x - X)[free]) / dg)
+            break
+    return out
+
+
 def newton_steps(d, G, X, free, dg, v, lam, projection, log):
     """One exact Newton step (I - J(x0)) delta = -(x0 - G(x0)), solved by GMRES (soft_split)
     from x0 = x* + h v (v the slowest mode, max row one diagonal; h per NEWTON_FROM) and from
     x0 = G^VALLEY_STEPS(x* + h v) (the stiff error a straight step along a turning part puts
     on it removed by plain steps: near the valley floor, where iterates are). Per start:
     the distances (/ diag, largest row) to x* before, after the full step, and after one plain
-    step more; the soft part of the error before and after the step; at lambda = 1, E - E*
-    before and after (does a full step lower the energy?)."""
+    step more; the soft part of the error before and after the step; at lambda = 1, what a
+    line search on the energy does with the step (energy_line_search)."""
     v = v.reshape(-1, 3) * (dg / np.linalg.norm(v.reshape(-1, 3), axis=1).max())
-    energy_star = float(d.energy(X)) if lam == 1.0 else None
     rows = []
     for start in ("line", "valley"):
         for h in NEWTON_FROM:
@@ -270,9 +294,8 @@ def newton_steps(d, G, X, free, dg, v, lam, projection, log):
                    "after_soft": largest_row(projection.soft(error)) / dg,
                    "after_plain": largest_row((G(x1) - X)[free]) / dg,
                    "solve_iterations": stats["iterations"], "solve_residual": stats["residual"]}
-            if energy_star is not None:
-                row["energy_before"] = float(d.energy(x0)) - energy_star
-                row["energy_after"] = float(d.energy(x1)) - energy_star
+            if lam == 1.0:
+                row.update(energy_line_search(d, X, free, dg, x0, delta, G(x1)))
             log(json.dumps(row))
             rows.append(row)
     return rows
@@ -495,20 +518,26 @@ def split_markdown(result):
         f"or that point after {VALLEY_STEPS} plain steps ('valley': the stiff error a straight step along a "
         "turning part adds is gone, as near the iterates). Distances to x* / diag (largest "
         "row; in brackets the error's soft part P): before, after the full step, and after "
-        "one plain step more; at λ = 1, E − E* before and after the full step.",
+        "one plain step more. At λ = 1: E − E* before, after the full step and after the plain "
+        f"step that follows it; the first of 1, ½, … 1/{2 ** LINE_SEARCH_HALVINGS} that "
+        "lowers E ('step kept') and the distance there.",
         "",
         "| cell | start | h / diag | before (soft part) | after the step (soft part) | after a "
-        "plain step more | E − E*: before → after | GMRES iterations |",
-        "|---|---|---|---|---|---|---|---|",
+        "plain step more | E − E*: before → after → after the plain step | step kept: "
+        "distance | GMRES iterations |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         for n in r["newton_steps"]:
-            energy = (f"{n['energy_before']:.1e} → {n['energy_after']:.1e}"
-                      if "energy_before" in n else "–")
+            energy, kept = "–", "–"
+            if "energy_before" in n:
+                energy = (f"{n['energy_before']:.1e} → {n['energy_after']:.1e} → "
+                          f"{n['energy_after_plain']:.1e}")
+                kept = f"{n['accepted_step']:g}: {n['after_accepted']:.1e}"
             lines.append(
                 f"| {cell_label(r)} | {n['start']} | {n['h']:g} | {n['before']:.1e} "
                 f"({n['before_soft']:.1e}) | {n['after']:.1e} ({n['after_soft']:.1e}) | "
-                f"{n['after_plain']:.1e} | {energy} | {n['solve_iterations']} |")
+                f"{n['after_plain']:.1e} | {energy} | {kept} | {n['solve_iterations']} |")
     return "\n".join(lines)
 
 

@@ -147,10 +147,14 @@ class NewtonSolve:
 
 def soft_eigenpairs(d, X, count, log):
     """The `count` largest eigenpairs of the analytic J_G at X (ARPACK; complex pairs as
-    ARPACK returns them), vectors as (count, #free, 3), and the spectrum's summary row."""
+    ARPACK returns them), vectors as (count, #free, 3), each turned so that its largest entry
+    is real and positive (ARPACK's sign is arbitrary; a step along +v is then the same step
+    in every run), and the spectrum's summary row."""
     from bench_newton_diagnostics import spectrum, to_points
     nf = len(d.free_vertices)
     mu, vecs, row = spectrum(d, X, nf, count, log)
+    largest = vecs[np.abs(vecs).argmax(axis=0), np.arange(vecs.shape[1])]
+    vecs = vecs * (np.abs(largest) / largest)
     vectors = np.stack([to_points(vecs[:, j].real, nf) + 1j * to_points(vecs[:, j].imag, nf)
                         for j in range(len(mu))])
     return mu, vectors, row
