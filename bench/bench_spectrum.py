@@ -14,16 +14,22 @@ Reported: the largest Ritz moduli, how many exceed 0.99 / 0.999 / 1, and the Arn
 of the largest (how well that value is resolved). With --radius K, for the K largest: how
 far Newton's linear model of G holds along that eigenvector v (max row |v| = diag): the
 second difference |G(x + hv) + G(x - hv) - 2 G(x)| = c h^2 gives the model's error c h^2 / 2
-at a step h, which equals the step's own term |(I - J) hv| = |1 - mu| h at h* = 2 |1 - mu| / c:
-beyond h* (a fraction of the diagonal) a Newton step along that mode is mostly model error.
-With --spread, the reference is also
-computed in child processes with 1 and with 2 solver threads, and the two end points compared
-(round-off differs between them, nothing else).
+at a step h, which equals the step's own term |(I - J) hv| = |1 - mu| h at h* = 2 |1 - mu| / c.
+That compares the whole second-order term with the step; a Newton step multiplies only its
+part along the soft modes by 1/(1 - mu) (docs/decisions/0028-soft-part-of-newton-model.md).
+With --radius K --split, the modes come from the 50 largest eigenpairs of the analytic J
+(ARPACK), each second difference is split into its part along their span and the rest
+(SoftSplit, bench/soft_split.py), and exact Newton steps are taken along the slowest mode
+(newton_steps). With --spread, the reference is also computed in child processes with 1 and
+with 2 solver threads, and the two end points compared (round-off differs between them,
+nothing else).
 
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_spectrum.py [--steps 100] [--spread]
-        [--cells koala:lift:edge:1,head:lift:edge:0.5] [--radius 3]
-        [--json bench/results/spectrum.json]
-Writes bench/results/spectrum.json; bench/report.py puts the tables into docs/benchmarks_solver.md.
+        [--cells koala:lift:edge:1,head:lift:edge:0.5,spot.obj:lift:edge:1] [--radius 3]
+        [--split [50]] [--json bench/results/spectrum.json]
+Writes bench/results/spectrum.json (--radius 3: newton_radius.json; --split:
+newton_soft_split.json, as the page's commands say); bench/report.py puts the tables into
+docs/benchmarks_solver.md.
 """
 import argparse
 import json
