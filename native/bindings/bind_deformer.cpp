@@ -32,6 +32,23 @@ py::array_t<int64_t> int_matrix(const RowMatrixX2i& M) {
 }  // namespace
 
 void bind_deformer(py::module_& m) {
+  py::class_<NewtonOptions>(m, "NewtonOptions", "Settings of the direct Newton method (acceleration=\"direct\").")
+      .def(py::init([](int lead_in, int start_level, int correction, int stages, double stage_tolerance, bool secant, double extrapolate, int level_patience, bool ladder) {
+             if (lead_in < 0) throw std::invalid_argument("lead_in must be >= 0, got " + std::to_string(lead_in));
+             NewtonOptions o;
+             o.lead_in = lead_in;
+             if (start_level < 0 || start_level >= kProjectionLevelCount)
+               throw std::invalid_argument("start_level must be in [0, " + std::to_string(kProjectionLevelCount - 1) + "]");
+             o.start_level = start_level;
+             o.correction = correction; o.stages = stages; o.stage_tolerance = stage_tolerance; o.secant = secant; o.extrapolate = extrapolate; o.level_patience = level_patience; o.ladder = ladder;
+             return o;
+           }),
+           py::arg("lead_in") = NewtonOptions{}.lead_in, py::arg("start_level") = NewtonOptions{}.start_level,
+           py::arg("correction") = NewtonOptions{}.correction, py::arg("stages") = 1, py::arg("stage_tolerance") = 1e-2, py::arg("secant") = true, py::arg("extrapolate") = 0.0, py::arg("level_patience") = 1, py::arg("ladder") = true)
+      .def_readonly("lead_in", &NewtonOptions::lead_in, "Anderson iterations before the first Newton step")
+      .def_readonly("start_level", &NewtonOptions::start_level,
+                    "lambda = 1: the projection level a start begins at")
+      .def_readonly("correction", &NewtonOptions::correction, "lambda = 1: 0, 1 plain or 2 chord correction");
   py::class_<SolveResult>(m, "SolveResult", "Result of Deformer.solve.")
       .def_readonly("positions", &SolveResult::positions, "(n, 3) float64: every vertex, constrained ones included")
       .def_readonly("iterations", &SolveResult::iterations, "global steps taken in this call")
@@ -54,6 +71,12 @@ void bind_deformer(py::module_& m) {
                     "products with the Newton operator over all Newton steps (each with one back-substitution)")
       .def_readonly("line_search_failures", &SolveResult::line_search_failures,
                     "Newton steps whose line search failed (plain steps were taken instead)")
+      .def_readonly("newton_factorizations", &SolveResult::newton_factorizations,
+                    "direct Newton: factorizations of the Newton matrix (failed ones included)")
+      .def_readonly("corrections", &SolveResult::corrections, "direct Newton: trials kept after a correction")
+      .def_readonly("assemble_ms", &SolveResult::assemble_ms, "direct Newton: total ms assembling the Newton matrix")
+      .def_readonly("newton_factor_ms", &SolveResult::newton_factor_ms,
+                    "direct Newton: total ms factoring the Newton matrix")
       .def_readonly("coarse_dimension", &SolveResult::coarse_dimension, "unknowns of the coarse space (0: none)")
       .def_readonly("coarse_factorizations", &SolveResult::coarse_factorizations, "coarse operators factored")
       .def_readonly("predictions", &SolveResult::predictions, "coarse predictor steps taken (coarse_predictor)")
@@ -133,7 +156,8 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
           "solve",
           [](Deformer& d, const TargetsArg& targets_arg, int max_iterations, double tolerance, bool warm_start,
              const OptionalPointsArg& initial_arg, const std::string& acceleration, int anderson_window,
-             int krylov_iterations, int coarse_patches, int coarse_blend, bool coarse_predictor, bool verify_claims) {
+             int krylov_iterations, int coarse_patches, int coarse_blend, bool coarse_predictor, bool verify_claims,
+             const std::optional<NewtonOptions>& newton) {
             const py::handle& targets = targets_arg.obj;
             const py::handle& initial = initial_arg.obj;
             SolveOptions o;
@@ -147,6 +171,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
             o.coarse_blend = coarse_blend;
             o.coarse_predictor = coarse_predictor;
             o.verify_claims = verify_claims;
+            if (newton) o.newton = *newton;
             if (!initial.is_none()) o.initial = to_points(initial, "initial");
             RowMatrixX3d t = to_points(targets, "targets");
             SignalCheck signals;
@@ -166,7 +191,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
           py::arg("coarse_patches") = SolveOptions{}.coarse_patches,
           py::arg("coarse_blend") = SolveOptions{}.coarse_blend,
           py::arg("coarse_predictor") = SolveOptions{}.coarse_predictor,
-          py::arg("verify_claims") = SolveOptions{}.verify_claims,
+          py::arg("verify_claims") = SolveOptions{}.verify_claims, py::arg("newton") = py::none(),
           R"doc(Deforms the mesh so that the handles reach their targets.
 
 targets: (h, 3) one target per handle, in the order given to set_constraints.

@@ -1,13 +1,18 @@
 #include "edgedeform/deformer.h"
 
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include <Eigen/Geometry>
+
 #include "edgedeform/errors.h"
+#include "edgedeform/local_fit_derivative.h"
 #include "edgedeform/mesh_checks.h"
 #include "edgedeform/stiffness.h"
 
@@ -53,6 +58,7 @@ void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX
 const char* acceleration_name(Acceleration a) {
   switch (a) {
     case Acceleration::Newton: return "newton";
+    case Acceleration::Direct: return "direct";
     case Acceleration::Anderson: return "anderson";
     case Acceleration::None: break;
   }
@@ -63,7 +69,8 @@ Acceleration parse_acceleration(const std::string& name) {
   if (name == "newton") return Acceleration::Newton;
   if (name == "anderson") return Acceleration::Anderson;
   if (name == "none") return Acceleration::None;
-  throw std::invalid_argument("acceleration must be \"newton\", \"anderson\" or \"none\", got \"" + name + "\"");
+  if (name == "direct") return Acceleration::Direct;
+  throw std::invalid_argument("acceleration must be \"newton\", \"anderson\", \"none\" or \"direct\", got \"" + name + "\"");
 }
 
 Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, bool clamp_negative_weights) {
@@ -133,6 +140,7 @@ void Deformer::ensure_factored(SolveResult& result) {
   stiffness_changed_ = false;
   iter_.continuable = false;  // a new system: a new map G
   coarse_.operators_changed();
+  newton_factor_.operators_changed();
   result.factor_ms = ms_since(start);
 }
 
@@ -163,8 +171,47 @@ struct Deformer::StepProblem final : FixedPointProblem {
     result.solve_ms += ms_since(t0);
   }
   const SparseMatrix& A() const override { return d.assembled_->A; }
-  std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit, bool positive_model) override {
-    return std::make_unique<FixedPointLinearization>(*d.system_, *d.assembled_, fit, d.node_positions_, positive_model);
+  std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit, double projection) override {
+    return std::make_unique<FixedPointLinearization>(*d.system_, *d.assembled_, fit, d.node_positions_, projection);
+  }
+  bool factor_newton(const LocalFit& fit, double projection) override {
+    const FixedPointLinearization lin(*d.system_, *d.assembled_, fit, d.node_positions_, projection);
+    bool symmetric = d.assembled_->term_lambda.size() > 0 && d.assembled_->term_lambda.minCoeff() >= 1.0;
+    if (std::getenv("EDGEDEFORM_DN_RESIDUAL")) symmetric = false;  // EXPERIMENT
+    const bool ok = d.newton_factor_.factor(lin, symmetric);
+    ++result.newton_factorizations;
+    result.assemble_ms += d.newton_factor_.assemble_ms();
+    result.newton_factor_ms += d.newton_factor_.factor_ms();
+    return ok;
+  }
+  RowMatrixX3d lift_omega;
+  Eigen::VectorXd lift_dscale;
+  void prepare_lift(const LocalFit& fit, const Eigen::MatrixXd& delta) override {
+    const FixedPointLinearization lin(*d.system_, *d.assembled_, fit, d.node_positions_, 0.0);
+    RowMatrixX3d padded = RowMatrixX3d::Zero(d.system_->n_free() + d.system_->n_fixed(), 3), change;
+    padded.topRows(delta.rows()) = delta;
+    stencil_node_positions(*d.system_, padded, change);
+    differentiate_fit(d.system_->stencil, fit, lin.fit_linearization(), change, lift_omega, lift_dscale);
+  }
+  void lifted_step(const LocalFit& fit, double alpha, Eigen::MatrixXd& out) override {
+    const auto T = fit.rotation.size();
+    std::vector<Eigen::Matrix3d> rotation(T);
+    Eigen::VectorXd scale(fit.scale.size());
+    for (size_t t = 0; t < T; ++t) {
+      const Eigen::Vector3d w = alpha * lift_omega.row(static_cast<Eigen::Index>(t)).transpose();
+      const double angle = w.norm();
+      rotation[t] = angle > 0.0 ? Eigen::Matrix3d(Eigen::AngleAxisd(angle, w / angle) * fit.rotation[t]) : fit.rotation[t];
+      scale(static_cast<Eigen::Index>(t)) =
+          std::clamp(fit.scale(static_cast<Eigen::Index>(t)) + alpha * lift_dscale(static_cast<Eigen::Index>(t)), kMinScale, kMaxScale);
+    }
+    Eigen::MatrixXd rhs;
+    d.assembled_->H.apply(rotation, scale, c, rhs, d.rhs_term_weights_);
+    d.factors_.factor().solve(rhs, out);
+  }
+  void solve_newton(const Eigen::MatrixXd& b, Eigen::MatrixXd& delta) override {
+    const auto t0 = Clock::now();
+    d.newton_factor_.solve(b, delta);
+    result.solve_ms += ms_since(t0);
   }
   bool interrupt_requested() override { return options.interrupt_requested && options.interrupt_requested(); }
 };
@@ -196,6 +243,14 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   for (int k = 0; k < nc; ++k) x_local.row(nf + k) = constrained.row(sys.fixed_vertices[static_cast<size_t>(k)]);
   const Eigen::MatrixXd c = -(as.K_fixed * x_local.bottomRows(nc));  // the fixed vertices' share
 
+  // EXPERIMENT: continuation's first stage starts from the targets the iterate is at.
+  RowMatrixX3d stage_from(static_cast<Eigen::Index>(sys.handles.size()), 3);
+  const bool iterate_at_old = options.warm_start && !options.initial && iter_.positions_valid &&
+                              iter_.y.rows() == nf && iter_.targets.rows() == targets.rows();
+  for (size_t h = 0; h < sys.handles.size(); ++h)
+    stage_from.row(static_cast<Eigen::Index>(h)) = iterate_at_old ? RowMatrixX3d(iter_.targets.row(static_cast<Eigen::Index>(h)))
+                                                                  : RowMatrixX3d(rest_.row(sys.handles[h]));
+  const bool same_targets_before = iter_.targets.rows() == targets.rows() && iter_.targets == targets;
   StartPoint start = start_point(targets, options, x_local, result);
   LocalFit& fit = start.fit;
   Iteration& it = iter_;
@@ -203,8 +258,43 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   if (start.predict && predict(problem, options, fit, result)) it.continuable = true;  // fit = fit(y)
   if (options.acceleration == Acceleration::Newton) {
     iterate_newton(problem, options, fit, result);
+  } else if (options.acceleration == Acceleration::Direct && options.newton.stages > 1 && !same_targets_before) {
+    // EXPERIMENT: continuation, the handles' displacement in stages, a secant predictor.
+    const int stages = options.newton.stages;
+    Eigen::MatrixXd previous_stage = it.y;
+    for (int k = 1; k <= stages; ++k) {
+      const double tau = static_cast<double>(k) / stages;
+      RowMatrixX3d stage_constrained = rest_;
+      for (size_t h = 0; h < sys.handles.size(); ++h)
+        stage_constrained.row(sys.handles[h]) =
+            stage_from.row(static_cast<Eigen::Index>(h)) + tau * (targets.row(static_cast<Eigen::Index>(h)) - stage_from.row(static_cast<Eigen::Index>(h)));
+      for (int j = 0; j < nc; ++j) x_local.row(nf + j) = stage_constrained.row(sys.fixed_vertices[static_cast<size_t>(j)]);
+      const Eigen::MatrixXd stage_c = -(as.K_fixed * x_local.bottomRows(nc));
+      SolveOptions stage_options = options;
+      if (k < stages) stage_options.tolerance = options.newton.stage_tolerance;
+      StepProblem stage_problem(*this, stage_c, x_local, result, stage_options);
+      if (k > 1) {
+        const Eigen::MatrixXd here = it.y;
+        if (options.newton.secant) it.y += it.y - previous_stage;
+        previous_stage = here;
+      }
+      if (k > 1 || it.continuable) {
+        it.energy = stage_problem.local_fit(it.y, fit);
+        it.continuable = true;
+      }
+      it.direct_valid = false;
+      result.converged = false;
+      const size_t warnings = result.warnings.size();
+      iterate_direct(stage_problem, stage_options, fit, result);
+      if (std::getenv("EDGEDEFORM_TRACE")) std::fprintf(stderr, "stage %d of %d: iterations %d newton %d converged %d\n", k, stages, result.iterations, result.newton_steps, result.converged ? 1 : 0);
+      if (k < stages) result.warnings.resize(warnings);
+      if (result.iterations >= options.max_iterations) break;
+    }
+  } else if (options.acceleration == Acceleration::Direct) {
+    iterate_direct(problem, options, fit, result);
   } else {
     it.newton_valid = false;  // Newton's state no longer describes the iterate
+    it.direct_valid = false;
     PlainAndersonSettings settings;
     settings.max_iterations = options.max_iterations - result.iterations;  // the predictor's steps count
     settings.tolerance = options.tolerance;

@@ -1,6 +1,8 @@
 // Deformer's Newton-Krylov iteration and live predictor: the Deformer's one-step map, local
 // fit and factor (Deformer::StepProblem) offered to newton_krylov_solve and coarse_predict,
 // over the coarse space its CoarseCache keeps; and the inspection calls.
+#include <algorithm>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
@@ -56,6 +58,44 @@ void Deformer::iterate_newton(FixedPointProblem& problem, const SolveOptions& op
   // The Anderson state and rate estimate do not describe Newton's iterates.
   it.plain.forget();
   newton_krylov_solve(problem, settings, IterationPoint{it.y, fit, it.energy, it.continuable, it.newton}, result);
+}
+
+void Deformer::iterate_direct(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit,
+                              SolveResult& result) {
+  Iteration& it = iter_;
+  const bool descent = assembled_->term_lambda.size() > 0 && assembled_->term_lambda.minCoeff() >= 1.0;
+  const bool fresh = !it.continuable || !it.direct_valid;
+  it.newton_valid = false;
+  if (fresh && options.newton.lead_in > 0) {  // an Anderson lead-in
+    PlainAndersonSettings lead;
+    lead.max_iterations = std::min(options.newton.lead_in, options.max_iterations);
+    lead.tolerance = options.tolerance;
+    lead.diag = diag_;
+    lead.descent = descent;
+    const size_t warnings = result.warnings.size();
+    plain_anderson_solve(problem, lead, PlainAndersonPoint{it.y, fit, it.energy, it.continuable, it.plain}, result);
+    if (result.converged || result.iterations >= options.max_iterations) {
+      it.direct_valid = false;
+      return;
+    }
+    result.warnings.resize(warnings);  // its "not converged" is not the solve's
+  }
+  if (fresh) it.direct.reset(it.continuable ? 0 : 1, options.newton.start_level);
+  it.direct_valid = true;
+  it.plain.forget();  // the Anderson state and rate estimate do not describe Newton's iterates
+  DirectNewtonSettings settings;
+  settings.max_iterations = options.max_iterations;
+  settings.tolerance = options.tolerance;
+  settings.diag = diag_;
+  settings.descent = descent && !std::getenv("EDGEDEFORM_DN_RESIDUAL");  // EXPERIMENT
+  settings.start_level = options.newton.start_level;
+  settings.correction = options.newton.correction;
+  settings.extrapolate = options.newton.extrapolate;
+  settings.level_patience = options.newton.level_patience;
+  settings.ladder = options.newton.ladder;
+  result.energies.reserve(static_cast<size_t>(options.max_iterations));
+  result.residuals.reserve(static_cast<size_t>(options.max_iterations));
+  direct_newton_solve(problem, settings, DirectNewtonPoint{it.y, fit, it.energy, it.continuable, it.direct}, result);
 }
 
 const std::vector<int>& Deformer::free_vertices() const {

@@ -4,11 +4,11 @@ namespace edgedeform {
 
 FixedPointLinearization::FixedPointLinearization(const ConstrainedSystem& system, const AssembledSystem& assembled,
                                                  const LocalFit& fit, const RowMatrixX3d& node_positions,
-                                                 bool positive_model)
+                                                 double projection)
     : system_(system),
       assembled_(assembled),
       fit_(fit),
-      linearization_(linearize_fit(system.stencil, node_positions, fit, positive_model)) {
+      linearization_(linearize_fit(system.stencil, node_positions, fit, projection)) {
   padded_.setZero(system.n_free() + system.n_fixed(), 3);  // fixed vertices never move
 }
 

@@ -11,6 +11,7 @@
 #include "edgedeform/deformer.h"
 #include "edgedeform/errors.h"
 #include "edgedeform/fixed_point_iteration.h"
+#include "edgedeform/newton_factor.h"
 #include "edgedeform/sparse_cholesky.h"
 
 using namespace edgedeform;
@@ -23,6 +24,7 @@ struct GridProblem final : FixedPointProblem {
   ConstrainedSystem sys;
   AssembledSystem as;
   SparseCholesky cholesky;
+  NewtonFactor newton;
   RowMatrixX3d x_local, nodes;
   Eigen::MatrixXd c;
   double diag = 0.0;
@@ -58,9 +60,13 @@ struct GridProblem final : FixedPointProblem {
   }
   void solve_A(const Eigen::MatrixXd& r, Eigen::MatrixXd& z) override { cholesky.solve(r, z); }
   const SparseMatrix& A() const override { return as.A; }
-  std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit, bool positive_model) override {
-    return std::make_unique<FixedPointLinearization>(sys, as, fit, nodes, positive_model);
+  std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit, double projection) override {
+    return std::make_unique<FixedPointLinearization>(sys, as, fit, nodes, projection);
   }
+  bool factor_newton(const LocalFit& fit, double projection) override {
+    return newton.factor(FixedPointLinearization(sys, as, fit, nodes, projection), as.term_lambda.minCoeff() >= 1.0);
+  }
+  void solve_newton(const Eigen::MatrixXd& b, Eigen::MatrixXd& delta) override { newton.solve(b, delta); }
   bool interrupt_requested() override { return interrupt_after >= 0 && asked++ >= interrupt_after; }
 };
 

@@ -18,9 +18,11 @@
 
 #include "edgedeform/coarse_cache.h"
 #include "edgedeform/constrained_system.h"
+#include "edgedeform/direct_newton.h"
 #include "edgedeform/edge_topology.h"
 #include "edgedeform/factor_cache.h"
 #include "edgedeform/fixed_point_iteration.h"
+#include "edgedeform/newton_factor.h"
 #include "edgedeform/newton_krylov.h"
 #include "edgedeform/node_graph.h"
 #include "edgedeform/operator_cache.h"
@@ -31,10 +33,28 @@
 
 namespace edgedeform {
 
-enum class Acceleration { None, Anderson, Newton };
+enum class Acceleration { None, Anderson, Newton, Direct };
 const char* acceleration_name(Acceleration a);
 // "none" | "anderson" | "newton"; anything else throws std::invalid_argument.
 Acceleration parse_acceleration(const std::string& name);
+
+// The direct Newton method's settings (direct_newton.h).
+struct NewtonOptions {
+  // A cold or moved-target start first runs this many Anderson iterations (0: none).
+  int lead_in = 0;
+  // lambda = 1: the projection level a start begins at (direct_newton.h's kProjectionLevels).
+  int start_level = 3;
+  // lambda = 1: a trial that fails its line search is first corrected: 0 no, 1 by a plain
+  // step, 2 by a chord step with the same factor.
+  int correction = 0;
+  double extrapolate = 0.0;  // EXPERIMENT
+  int level_patience = 1;    // EXPERIMENT
+  bool ladder = true;        // EXPERIMENT
+  // EXPERIMENT: continuation stages, their tolerance, secant predictor.
+  int stages = 1;
+  double stage_tolerance = 1e-2;
+  bool secant = true;
+};
 
 struct SolveOptions {
   int max_iterations = 2000;
@@ -58,6 +78,7 @@ struct SolveOptions {
   // Plain/Anderson: before a convergence claim, estimate J_G's largest modulus by Arnoldi
   // steps at the point (claim_check.h) and claim only if the bound with it holds too.
   bool verify_claims = false;
+  NewtonOptions newton;
   // Asked once per iteration (called from the solving thread); returning true stops the
   // solve with SolveInterrupted. The Python bindings check for Ctrl-C here, so the core
   // needs no Python.
@@ -75,6 +96,9 @@ struct SolveResult {
   int accelerated_steps = 0, rejected_steps = 0;  // Anderson steps taken; discarded by the safeguard
   int newton_steps = 0, krylov_iterations = 0;  // Newton-Krylov: steps, products with K in all
   int line_search_failures = 0;                 // Newton steps that gave way to plain steps
+  int newton_factorizations = 0;
+  int corrections = 0;                          // direct Newton: trials kept after a second-order correction                // direct Newton: factorizations of K (failed ones included)
+  double assemble_ms = 0.0, newton_factor_ms = 0.0;  // direct Newton: assembling K, factoring it
   int coarse_factorizations = 0, coarse_dimension = 0;  // of the coarse space (0: none)
   int predictions = 0, predictions_kept = 0;    // coarse predictor steps (coarse_predictor)
   int claim_checks = 0, refused_claims = 0;     // verify_claims: checks made, claims refused
@@ -161,6 +185,8 @@ class Deformer {
                          SolveResult& result);
   // Moved targets, warm: the coarse predictor's step from it.y (true if it ran).
   bool predict(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit, SolveResult& result);
+  // The fixed point by direct Newton steps (direct_newton.h), after the lead-in.
+  void iterate_direct(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit, SolveResult& result);
   // The fixed point by Newton-Krylov steps (newton_krylov.h).
   void iterate_newton(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit, SolveResult& result);
   // coarse_.basis() of the current constraints (null for none).
@@ -183,6 +209,7 @@ class Deformer {
   bool stiffness_changed_ = false;              // assembled_ holds another lambda
   OperatorCache operators_;  // assembles or restricts system_'s operators
   FactorCache factors_;      // factors assembled_'s A; its factor() is the current one
+  NewtonFactor newton_factor_;  // the Newton matrix of assembled_ and its factor (direct Newton)
   WarmState warm_;           // the fit the next warm solve starts from
   // The iteration in progress, continued by a warm solve with the same targets (live editing
   // that stands still settles to the cold solve's fixed point). Owned by solve(); stale after
@@ -195,6 +222,8 @@ class Deformer {
     double energy = 0.0;          // E(y)
     PlainAndersonMemory plain;    // the plain/Anderson strategy's state (fixed_point_iteration.h)
     NewtonMemory newton;          // Newton-Krylov's state (newton_krylov.h)
+    DirectNewtonMemory direct;    // direct Newton's state (direct_newton.h)
+    bool direct_valid = false;    // direct describes this iteration
     bool newton_valid = false;    // newton describes this iteration (false after Anderson)
   } iter_;
   double diag_ = 0.0;             // rest bounding-box diagonal

@@ -14,10 +14,11 @@ class FixedPointLinearization {
  public:
   // `fit` is the local fit at node positions `node_positions` (stencil_node_positions of
   // the point); the system, its operators and the fit must outlive this object.
-  // `positive_model`: the per-node positive semi-definite model of K (linearize_fit), only
-  // for lambda = 1 on every term.
+  // `projection`: the terms whose generalized eigenvalue is below it projected (linearize_fit;
+  // 1: the per-node positive semi-definite model of K, 0: K itself), only for lambda = 1 on
+  // every term.
   FixedPointLinearization(const ConstrainedSystem& system, const AssembledSystem& assembled, const LocalFit& fit,
-                          const RowMatrixX3d& node_positions, bool positive_model = false);
+                          const RowMatrixX3d& node_positions, double projection = 0.0);
 
   // out = D dx.
   void rhs_derivative(const Eigen::MatrixXd& dx, Eigen::MatrixXd& out) const;

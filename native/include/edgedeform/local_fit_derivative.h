@@ -31,15 +31,19 @@ struct FitLinearization {
 
 // Linearizes `fit` (fit_local's result at node positions p) with the same stencil.
 //
-// With `positive_model` (only meaningful where lambda = 1 on every term, where K is the
-// energy's Hessian): each term's rotation response is limited so that its own Hessian
-// sum_a w_a |de_a|^2 - u^T H^-1 u (u = sum_a w_a [R e0_a]x de_a) stays positive
-// semi-definite. u ranges over an ellipsoid of matrix W = R ((tr C0) I - C0) R^T,
-// C0 = sum_a w_a e0_a e0_a^T the rest covariance, so the term is convex iff H >= W; the
-// model raises H's generalized eigenvalues against W to at least 1 (a per-node projection,
-// as projected Newton does per element). At rest H = W exactly: rigid rotations cost nothing.
+// With a `projection` above 0 (only meaningful where lambda = 1 on every term, where K is the
+// energy's Hessian): a term whose rotation response makes its own Hessian
+// sum_a w_a |de_a|^2 - u^T H^-1 u (u = sum_a w_a [R e0_a]x de_a) indefinite is projected.
+// u ranges over an ellipsoid of matrix W = R ((tr C0) I - C0) R^T, C0 = sum_a w_a e0_a e0_a^T
+// the rest covariance, so the term's Hessian has the eigenvalue 1 - 1/mu (in W's metric)
+// along each generalized eigenvector of H against W (eigenvalue mu): convex iff H >= W.
+// Every mu below `projection` is raised to 1 (that direction then costs nothing, as at
+// rest, where H = W: rigid rotations are free): projection 1 projects every indefinite term
+// (a per-node projection, as projected Newton does per element); a smaller one only the
+// strongly compressed terms, leaving the mildly indefinite ones whose sum the soft modes'
+// curvature is (docs/decisions/0029); 0 is the true K.
 FitLinearization linearize_fit(const NodeStencil& stencil, const RowMatrixX3d& node_positions, const LocalFit& fit,
-                               bool positive_model = false);
+                               double projection = 0.0);
 
 // A term's response to a change dS of its covariance: omega (rotation) and the scale change.
 inline void fit_response(const Eigen::Matrix3d& R, const Eigen::Matrix3d& omega_map, double scale_gain,

@@ -13,28 +13,11 @@
 
 #include "edgedeform/coarse_space.h"
 #include "edgedeform/fixed_point_linearization.h"
+#include "edgedeform/fixed_point_problem.h"
 
 namespace edgedeform {
 
 struct SolveResult;
-
-// What the strategy needs of the problem: the local fit, the global step, A and its factor.
-class FixedPointProblem {
- public:
-  virtual ~FixedPointProblem() = default;
-  // fit := the local fit at free positions y (#free x 3); returns E(y). The node positions
-  // of the last call are those linearize() uses.
-  virtual double local_fit(const Eigen::MatrixXd& y, LocalFit& fit) = 0;
-  // rhs := the global step's right side for `fit`, g := A^-1 rhs (= G(y) for fit = fit(y)).
-  virtual void global_step(const LocalFit& fit, Eigen::MatrixXd& rhs, Eigen::MatrixXd& g) = 0;
-  virtual void solve_A(const Eigen::MatrixXd& r, Eigen::MatrixXd& z) = 0;
-  virtual const SparseMatrix& A() const = 0;
-  // The linearization at the point of the last local_fit call, whose fit `fit` is.
-  // With `positive_model` (lambda = 1 only): the per-node positive model (linearize_fit).
-  virtual std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit, bool positive_model) = 0;
-  // Asked between steps and inside the Krylov solve: true stops the solve.
-  virtual bool interrupt_requested() = 0;
-};
 
 struct NewtonSettings {
   int max_iterations = 2000;   // global steps (evaluations of G), as for the other methods

@@ -6,12 +6,12 @@ scale-aware Laplacian energy (weight 1 - lambda), with lambda per vertex. See do
 
 import numpy as np
 
-from ._core import FactorizationError, SolveResult, build_info
+from ._core import FactorizationError, NewtonOptions, SolveResult, build_info
 from ._core import Deformer as _NativeDeformer
 from ._core import metrics
 from .welding import Welding
 
-__all__ = ["Deformer", "SolveResult", "FactorizationError", "Welding", "build_info", "metrics"]
+__all__ = ["Deformer", "NewtonOptions", "SolveResult", "FactorizationError", "Welding", "build_info", "metrics"]
 __version__ = build_info()["version"]
 
 

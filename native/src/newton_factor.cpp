@@ -1,0 +1,64 @@
+#include "edgedeform/newton_factor.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+
+#include "edgedeform/errors.h"
+
+namespace edgedeform {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+}  // namespace
+
+bool NewtonFactor::factor(const FixedPointLinearization& lin, bool symmetric) {
+  auto t0 = Clock::now();
+  const bool fresh = !matrix_;
+  if (!matrix_) {
+    matrix_ = std::make_unique<NewtonMatrix>(lin.system(), lin.assembled());
+    // Order the vertices (nf x nf, a ninth of the entries) and keep each vertex's three
+    // coordinates together: the factor's supernodes then hold whole 3 x 3 blocks.
+    order_ = NewtonMatrix::coordinate_order(SparseCholesky::fill_reducing_order(matrix_->block_pattern()));
+  }
+  const double pattern_ms = ms_since(t0);
+  matrix_->assemble(lin);
+  assemble_ms_ = ms_since(t0);
+  if (std::getenv("EDGEDEFORM_TRACE")) std::fprintf(stderr, "newton factor: pattern %.0f ms (%s), assembly %.0f ms\n", pattern_ms, fresh ? "new" : "kept", assemble_ms_ - pattern_ms);
+  t0 = Clock::now();
+  symmetric_ = symmetric;
+  bool ok = true;
+  try {
+    if (symmetric)
+      cholesky_.factorize(matrix_->transpose(), order_);  // K^T = K
+    else
+      lu_.factorize(matrix_->transpose(), order_);  // solved transposed: K x = b
+  } catch (const FactorizationError&) {
+    ok = false;
+  }
+  factor_ms_ = ms_since(t0);
+  if (std::getenv("EDGEDEFORM_TRACE")) std::fprintf(stderr, "newton factor: %s %.0f ms\n", ok ? "factored" : "failed", factor_ms_);
+  return ok;
+}
+
+void NewtonFactor::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& delta) {
+  const Eigen::Index nf = b.rows();
+  Eigen::VectorXd rhs(3 * nf), x;
+  for (Eigen::Index v = 0; v < nf; ++v)
+    for (int c = 0; c < 3; ++c) rhs(3 * v + c) = b(v, c);
+  if (symmetric_) {
+    Eigen::MatrixXd X;
+    cholesky_.solve(rhs, X);
+    x = X.col(0);
+  } else {
+    lu_.solve(rhs, x, /*transposed=*/true);
+  }
+  delta.resize(nf, 3);
+  for (Eigen::Index v = 0; v < nf; ++v)
+    for (int c = 0; c < 3; ++c) delta(v, c) = x(3 * v + c);
+}
+
+}  // namespace edgedeform
