@@ -8,8 +8,10 @@
 // another resting place (measured on the dino lift, edge, lambda 0.5: 30 plain iterations
 // 4.8e-14 apart, 30 Newton-Krylov iterations 4.9e-12; with the BLAS on one thread, equal).
 //
-// How: OpenBLAS's own openblas_set_num_threads, referenced weakly so that a build against
-// another BLAS links and runs unchanged (without reproducibility across thread counts).
+// How: OpenBLAS's own openblas_set_num_threads, looked up at run time among the loaded
+// libraries (dlsym; GetProcAddress over the process's modules on Windows, where a weak
+// reference never resolves against a DLL), so that a build against another BLAS, or none,
+// links and runs unchanged (without reproducibility across thread counts).
 #pragma once
 
 namespace edgedeform {
@@ -22,6 +24,8 @@ class SerialBlas {
   SerialBlas& operator=(const SerialBlas&) = delete;
   // Whether the process's BLAS can be limited (OpenBLAS found).
   static bool available();
+  // The BLAS's current thread count (OpenBLAS's openblas_get_num_threads); 0 without OpenBLAS.
+  static int blas_threads();
 };
 
 }  // namespace edgedeform
