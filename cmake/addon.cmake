@@ -7,9 +7,15 @@
 #                    Install (3.4+)
 #   wheel            build/wheels/edgedeform-<ver>-cp<py>-<platform>.whl (scripts/build_wheel.sh:
 #                    scikit-build-core, as `pip install .`; its first run downloads the tool)
-#   addon_extension  build/edge_deform-<ver>-extension-<platform>.zip: Blender 4.2+ extension,
-#                    the add-on plus that wheel, listed in blender_manifest.toml (not in ALL:
-#                    the ctest fixture blender_extension_build makes it)
+#   addon_extension  build/edge_deform-<ver>-extension-linux-x64.zip: Blender 4.2+ extension,
+#                    the add-on plus the Linux wheels, listed in blender_manifest.toml (not in
+#                    ALL: the ctest fixture blender_extension_build makes it)
+#   addon_extension_windows
+#                    build/edge_deform-<ver>-extension-windows-x64.zip, the same with the
+#                    win_amd64 wheels of scripts/build_windows.sh (build/windows/wheels)
+# One zip per platform, each listing only its own wheels and naming only its platform, as
+# `blender --command extension build --split-platforms` makes them (that command needs a
+# Blender 4.2+, which Debian's 3.4 is not; each zip passes `extension validate`).
 #
 # The same file runs in script mode (cmake -P) to do the copying at build time, so the
 # targets see the environment (BLENDER_USER_SCRIPTS) of the build command, not of configure.
@@ -43,19 +49,31 @@ if(CMAKE_SCRIPT_MODE_FILE)
   endfunction()
 
   function(ed_stage_wheel root)
-    # The manifest lists the wheels built here (one per Blender Python the machine has,
-    # scripts/build_wheel.sh), generated: Blender installs the one matching its Python.
-    file(GLOB wheels ${ED_WHEEL_DIR}/edgedeform-*.whl)
+    # The manifest lists the wheels of one platform (ED_EXT_PLATFORM) built here, one per
+    # Blender Python (scripts/build_wheel.sh, scripts/build_windows.sh), generated: Blender
+    # installs the one matching its Python. Its `platforms` names that platform only.
+    set(linux-x64 "-linux_x86_64\\.whl$|-manylinux[^-]*_x86_64\\.whl$")
+    set(windows-x64 "-win_amd64\\.whl$")
+    set(macos-x64 "-macosx_[0-9_]+_(x86_64|universal2)\\.whl$")
+    set(macos-arm64 "-macosx_[0-9_]+_(arm64|universal2)\\.whl$")
+    if(NOT DEFINED ${ED_EXT_PLATFORM})
+      message(FATAL_ERROR "No extension platform '${ED_EXT_PLATFORM}' (linux-x64, windows-x64, macos-x64, macos-arm64)")
+    endif()
+    file(GLOB all_wheels ${ED_WHEEL_DIR}/edgedeform-*.whl)
+    set(wheels "")
+    foreach(wheel ${all_wheels})
+      if(wheel MATCHES "${${ED_EXT_PLATFORM}}")
+        list(APPEND wheels ${wheel})
+      endif()
+    endforeach()
     if(NOT wheels)
-      message(FATAL_ERROR "No wheel in ${ED_WHEEL_DIR}: run scripts/build_wheel.sh")
+      message(FATAL_ERROR "No ${ED_EXT_PLATFORM} wheel in ${ED_WHEEL_DIR}: run "
+        "scripts/build_wheel.sh (Linux) or scripts/build_windows.sh (Windows)")
     endif()
     list(SORT wheels)
     set(entries "")
     foreach(wheel ${wheels})
       get_filename_component(name ${wheel} NAME)
-      if(NOT name MATCHES "_x86_64\\.whl$")
-        message(FATAL_ERROR "${name}: the manifest's platforms are linux-x64 only")
-      endif()
       string(APPEND entries "  \"./wheels/${name}\",\n")
     endforeach()
     file(READ ${root}/blender_manifest.toml manifest)
@@ -63,7 +81,8 @@ if(CMAKE_SCRIPT_MODE_FILE)
       message(FATAL_ERROR "addon/edge_deform/blender_manifest.toml must not list wheels: "
         "the extension build writes them")
     endif()
-    string(REGEX REPLACE "\n(platforms = [^\n]*\n)" "\n\\1wheels = [\n${entries}]\n"
+    string(REGEX REPLACE "\nplatforms = [^\n]*\n"
+           "\nplatforms = [\"${ED_EXT_PLATFORM}\"]\nwheels = [\n${entries}]\n"
            generated "${manifest}")
     if(generated STREQUAL manifest)
       message(FATAL_ERROR "blender_manifest.toml has no `platforms = ...` line to put the wheels after")
@@ -140,10 +159,6 @@ execute_process(COMMAND ${Python_EXECUTABLE} -c
                 OUTPUT_VARIABLE ED_MODULE_PY OUTPUT_STRIP_TRAILING_WHITESPACE)
 string(REPLACE "." "" ED_PY_TAG "cp${ED_MODULE_PY}")
 string(TOLOWER "${CMAKE_SYSTEM_NAME}-${CMAKE_SYSTEM_PROCESSOR}" ED_PLATFORM)
-set(ED_EXT_PLATFORM ${ED_PLATFORM})
-if(ED_PLATFORM STREQUAL "linux-x86_64")
-  set(ED_EXT_PLATFORM linux-x64)
-endif()
 
 get_filename_component(_ed_python_dir ${Python_EXECUTABLE} DIRECTORY)
 find_program(BLENDER_EXECUTABLE blender)
@@ -186,11 +201,13 @@ endif()
 
 # The zips: add-on + native module for this platform and Python.
 set(ED_ZIP ${CMAKE_BINARY_DIR}/edge_deform-${ED_VERSION}-${ED_PLATFORM}-${ED_PY_TAG}.zip)
-set(ED_EXT_ZIP ${CMAKE_BINARY_DIR}/edge_deform-${ED_VERSION}-extension-${ED_EXT_PLATFORM}.zip)
+set(ED_EXT_ZIP ${CMAKE_BINARY_DIR}/edge_deform-${ED_VERSION}-extension-linux-x64.zip)
+set(ED_EXT_ZIP_WINDOWS ${CMAKE_BINARY_DIR}/edge_deform-${ED_VERSION}-extension-windows-x64.zip)
 set(EDGEDEFORM_ADDON_ZIP ${ED_ZIP} CACHE INTERNAL "")
 set(EDGEDEFORM_EXTENSION_ZIP ${ED_EXT_ZIP} CACHE INTERNAL "")
+set(EDGEDEFORM_EXTENSION_ZIP_WINDOWS ${ED_EXT_ZIP_WINDOWS} CACHE INTERNAL "")
 set(_ed_stage ${CMAKE_BINARY_DIR}/addon_stage)
-file(MAKE_DIRECTORY ${_ed_stage}/zip ${_ed_stage}/extension)  # working directories of the zip commands
+file(MAKE_DIRECTORY ${_ed_stage}/zip ${_ed_stage}/extension ${_ed_stage}/extension-windows)  # working directories of the zip commands
 file(GLOB_RECURSE _ed_sources CONFIGURE_DEPENDS ${ED_ADDON_SRC}/*.py ${ED_ADDON_SRC}/*.toml
      ${CMAKE_SOURCE_DIR}/docs/addon.md ${CMAKE_SOURCE_DIR}/docs/img/addon_*.png)
 
@@ -213,7 +230,7 @@ add_custom_target(wheel
 add_custom_target(addon_extension
   COMMAND ${CMAKE_COMMAND} -DED_ACTION=stage -DED_ADDON_SRC=${ED_ADDON_SRC}
           -DED_WHEEL_DIR=${CMAKE_BINARY_DIR}/wheels -DED_DEST=${_ed_stage}/extension
-          -DED_FLAT=TRUE -P ${CMAKE_CURRENT_LIST_FILE}
+          -DED_EXT_PLATFORM=linux-x64 -DED_FLAT=TRUE -P ${CMAKE_CURRENT_LIST_FILE}
   COMMAND ${CMAKE_COMMAND} -E rm -f ${ED_EXT_ZIP}
   COMMAND ${CMAKE_COMMAND} -E tar cf ${ED_EXT_ZIP} --format=zip .
   WORKING_DIRECTORY ${_ed_stage}/extension
@@ -221,3 +238,16 @@ add_custom_target(addon_extension
   BYPRODUCTS ${ED_EXT_ZIP}
   COMMENT "Blender 4.2+ extension zip: ${ED_EXT_ZIP}")
 add_dependencies(addon_extension wheel)
+
+# The Windows wheels come from the cross-build (scripts/build_windows.sh, or the `windows`
+# ctest fixture), which this target does not start: it is a second, optional toolchain.
+add_custom_target(addon_extension_windows
+  COMMAND ${CMAKE_COMMAND} -DED_ACTION=stage -DED_ADDON_SRC=${ED_ADDON_SRC}
+          -DED_WHEEL_DIR=${CMAKE_BINARY_DIR}/windows/wheels -DED_DEST=${_ed_stage}/extension-windows
+          -DED_EXT_PLATFORM=windows-x64 -DED_FLAT=TRUE -P ${CMAKE_CURRENT_LIST_FILE}
+  COMMAND ${CMAKE_COMMAND} -E rm -f ${ED_EXT_ZIP_WINDOWS}
+  COMMAND ${CMAKE_COMMAND} -E tar cf ${ED_EXT_ZIP_WINDOWS} --format=zip .
+  WORKING_DIRECTORY ${_ed_stage}/extension-windows
+  DEPENDS ${_ed_sources}
+  BYPRODUCTS ${ED_EXT_ZIP_WINDOWS}
+  COMMENT "Blender 4.2+ extension zip for Windows: ${ED_EXT_ZIP_WINDOWS}")

@@ -3,9 +3,11 @@
 # (bookworm) and 13 (trixie): every name below exists on both.
 # Skips apt entirely when everything is already there (fast on a developer machine).
 #   scripts/install_deps.sh           install what is missing
+#   scripts/install_deps.sh --windows also the Windows cross-build's tools (mingw-w64, wine:
+#                                     the `windows` tests, tests/windows; .ci/run)
 #   scripts/install_deps.sh --list    print the package names, one a line
-#   scripts/install_deps.sh --check   fail, naming them, if apt has no candidate for some
-#                                     (tests/packaging: install_deps_names)
+#   scripts/install_deps.sh --check   fail, naming them, if apt has no candidate for some,
+#                                     the Windows ones included (tests/packaging: install_deps_names)
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
@@ -20,6 +22,9 @@ packages=(
   clang libclang-rt-dev
   unzip
 )
+# The Windows cross-build (scripts/build_windows.sh): gcc's POSIX-thread variant (OpenMP),
+# with binutils and the mingw-w64 runtime; wine64 runs its programs.
+windows_packages=(g++-mingw-w64-x86-64-posix wine64)
 # pybind11 is not here: the build takes >= 2.12 from the package index (cmake/pybind11.cmake);
 # Debian 12's pybind11-dev 2.10 breaks the module under NumPy 2.
 
@@ -38,7 +43,10 @@ case "${1:-}" in
   --list)
     printf '%s\n' "${packages[@]}"
     exit 0 ;;
+  --windows)
+    packages+=("${windows_packages[@]}") ;;
   --check)
+    packages+=("${windows_packages[@]}")
     bad=$(unknown_packages "${packages[@]}")
     if [ -n "$bad" ]; then
       echo "install_deps: no such package on $(release) (apt-cache policy: no candidate):" $bad >&2
@@ -47,7 +55,7 @@ case "${1:-}" in
     echo "install_deps: all ${#packages[@]} package names have an install candidate on $(release)"
     exit 0 ;;
   "") ;;
-  *) echo "usage: install_deps.sh [--list | --check]" >&2; exit 2 ;;
+  *) echo "usage: install_deps.sh [--windows | --list | --check]" >&2; exit 2 ;;
 esac
 
 missing=()

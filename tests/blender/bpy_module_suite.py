@@ -50,37 +50,53 @@ def private_user_folders(home):
                                                                          "__init__.py"))]
 
 
+# Per extension platform: how its wheels end, its module's file name, whether CHOLMOD travels
+# inside (Linux: auditwheel; Windows and macOS use the Eigen solver, decision record 0045).
+PLATFORMS = {
+    "linux-x64": (("_x86_64.whl",), ".so", True),
+    "windows-x64": (("-win_amd64.whl",), ".pyd", False),
+    "macos-x64": (("_x86_64.whl", "_universal2.whl"), ".so", False),
+    "macos-arm64": (("_arm64.whl", "_universal2.whl"), ".so", False),
+}
+
+
 def check_contents(zip_path):
-    """What Blender's validation does not check: the zip ships exactly the wheels its
-    manifest names, one per Python, each the package at the add-on's version, and one of
-    them is for the Python running this check."""
+    """What Blender's validation does not check: the zip is for one platform and ships
+    exactly the wheels its manifest names, one per Python, each the package at the add-on's
+    version with its module for that Python and platform; a zip for this machine's platform
+    has a wheel for the Python running this check."""
     ext = zipfile.ZipFile(zip_path)
     names = ext.namelist()
     manifest = tomllib.loads(ext.read("blender_manifest.toml").decode())
     assert "__init__.py" in names, names
     assert not any(n.startswith("edgedeform/") or "__pycache__" in n for n in names), names
+    assert len(manifest["platforms"]) == 1, "one zip per platform: %s" % manifest["platforms"]
+    platform = manifest["platforms"][0]
+    endings, module_suffix, cholmod_inside = PLATFORMS[platform]
     wheels = sorted(n for n in names if n.startswith("wheels/") and n.endswith(".whl"))
     assert ["./" + n for n in wheels] == sorted(manifest["wheels"]), (wheels, manifest["wheels"])
     tags = [os.path.basename(w).split("-")[2] for w in wheels]
     assert len(set(tags)) == len(tags), "two wheels for one Python: %s" % wheels
-    this_python = "cp%d%d" % sys.version_info[:2]
-    assert this_python in tags, "no %s wheel for this Python in %s" % (this_python, wheels)
+    if platform == "linux-x64":
+        this_python = "cp%d%d" % sys.version_info[:2]
+        assert this_python in tags, "no %s wheel for this Python in %s" % (this_python, wheels)
     init = ext.read("__init__.py").decode()
     bl_info = re.search(r'"version": \((\d+), (\d+), (\d+)\)', init)
     for name in wheels:
         wheel = zipfile.ZipFile(io.BytesIO(ext.read(name)))
         tag = os.path.basename(name).split("-")[2]
-        assert any(n.startswith("edgedeform/_core.cpython-%s-" % tag[2:]) and n.endswith(".so")
+        assert name.endswith(endings), (name, "is not a %s wheel" % platform)
+        assert any(n.startswith("edgedeform/_core.c") and tag[2:] in n and n.endswith(module_suffix)
                    for n in wheel.namelist()), (name, "has no _core module for its Python")
         versions = {manifest["version"], os.path.basename(name).split("-")[1],
                     ".".join(bl_info.groups())}
         assert len(versions) == 1, "manifest, wheel and bl_info versions differ: %s" % versions
-        assert name.endswith("_x86_64.whl"), name
-        # Self-contained: SuiteSparse and its BLAS travel in the wheel (auditwheel).
-        assert any("libcholmod" in n for n in wheel.namelist()), name + ": no CHOLMOD inside"
-    assert manifest["platforms"] == ["linux-x64"], manifest
+        if cholmod_inside:
+            # Self-contained: SuiteSparse and its BLAS travel in the wheel (auditwheel).
+            assert any("libcholmod" in n for n in wheel.namelist()), name + ": no CHOLMOD inside"
     assert "permissions" not in manifest, "the add-on touches no files, network or devices"
-    print("zip holds the wheels %s, as its manifest lists" % ", ".join(tags), flush=True)
+    print("%s zip holds the wheels %s, as its manifest lists" % (platform, ", ".join(tags)),
+          flush=True)
 
 
 def with_bad_tagline(zip_path, home):

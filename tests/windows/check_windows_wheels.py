@@ -1,0 +1,90 @@
+"""The win_amd64 wheels of the cross-build (scripts/build_windows.sh): one per asked Python,
+each a valid wheel (RECORD hashes, WHEEL tag, METADATA, the console script) holding the whole
+package and a `_core` module for that Python that exports PyInit__core and needs no DLL but
+that Python's, Windows's own and the C runtime named in
+docs/decisions/0045-windows-cross-build.md (libstdc++, libgcc, libgomp and winpthreads
+are linked in).
+
+    check_windows_wheels.py WHEEL_DIR OBJDUMP TAG [TAG ...]      e.g. ... cp311 cp313
+"""
+
+import base64
+import hashlib
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import zipfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+SYSTEM_DLLS = {"kernel32.dll", "msvcrt.dll"}   # the C runtime: MSVCRT (decision record 0045)
+
+
+def check_record(z, names):
+    record_name, = [n for n in names if n.endswith(".dist-info/RECORD")]
+    listed = {}
+    for line in z.read(record_name).decode().splitlines():
+        name, digest, size = line.rsplit(",", 2)
+        listed[name] = (digest, size)
+    assert set(listed) == set(names), set(listed) ^ set(names)
+    for name, (digest, size) in listed.items():
+        if name == record_name:
+            continue
+        data = z.read(name)
+        want = "sha256=" + base64.urlsafe_b64encode(hashlib.sha256(data).digest()).rstrip(b"=").decode()
+        assert digest == want and int(size) == len(data), (name, digest, want)
+
+
+def check_module(objdump, data, tag):
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "_core.pyd")
+        Path(path).write_bytes(data)
+        headers = subprocess.run([objdump, "-p", path], capture_output=True, text=True,
+                                 check=True).stdout
+    assert "file format pei-x86-64" in headers, "%s: not a 64-bit Windows DLL" % tag
+    dlls = {d.lower() for d in re.findall(r"DLL Name: (\S+)", headers)}
+    python_dll = "python%s.dll" % tag[2:]
+    assert python_dll in dlls, (tag, dlls)
+    extra = dlls - SYSTEM_DLLS - {python_dll}
+    assert not extra, "%s: the module needs DLLs no Windows Python has: %s" % (tag, sorted(extra))
+    assert re.search(r"\]\s+PyInit__core\b", headers), "%s: no PyInit__core export" % tag
+    return sorted(dlls)
+
+
+def main():
+    wheel_dir, objdump, tags = Path(sys.argv[1]), sys.argv[2], sys.argv[3:]
+    version = re.search(r"project\(edgedeform VERSION ([0-9.]+)",
+                        (ROOT / "CMakeLists.txt").read_text()).group(1)
+    sources = sorted(p.relative_to(ROOT / "native" / "python").as_posix()
+                     for p in (ROOT / "native" / "python" / "edgedeform").rglob("*.py"))
+    wheels = sorted(wheel_dir.glob("edgedeform-*.whl"))
+    found = [w.name.split("-")[2] for w in wheels]
+    assert sorted(found) == sorted(tags), "wheels for %s, asked for %s" % (found, tags)
+    for wheel in wheels:
+        tag = wheel.name.split("-")[2]
+        assert wheel.name == "edgedeform-%s-%s-%s-win_amd64.whl" % (version, tag, tag), wheel.name
+        with zipfile.ZipFile(wheel) as z:
+            names = z.namelist()
+            check_record(z, names)
+            dist = "edgedeform-%s.dist-info/" % version
+            wheel_meta = z.read(dist + "WHEEL").decode()
+            assert "Tag: %s-%s-win_amd64" % (tag, tag) in wheel_meta, wheel_meta
+            assert "Root-Is-Purelib: false" in wheel_meta, wheel_meta
+            meta = z.read(dist + "METADATA").decode()
+            assert "Name: edgedeform\n" in meta and "Version: %s\n" % version in meta, meta
+            assert "Requires-Dist: numpy\n" in meta, meta
+            assert "edgedeform = edgedeform.cli:main" in z.read(dist + "entry_points.txt").decode()
+            missing = [s for s in sources if s not in names]
+            assert not missing, "%s lacks %s" % (wheel.name, missing)
+            module = "edgedeform/_core.%s-win_amd64.pyd" % tag
+            assert module in names, (wheel.name, names)
+            assert not any(n.endswith((".so", ".pyc")) or "__pycache__" in n for n in names), names
+            dlls = check_module(objdump, z.read(module), tag)
+        print("%s: %d files, RECORD verified; %s imports only %s" % (
+            wheel.name, len(names), module, ", ".join(dlls)), flush=True)
+
+
+if __name__ == "__main__":
+    main()
