@@ -41,9 +41,9 @@ foreach(pair ${EDGEDEFORM_WINDOWS_PYTHON})
   endif()
 
   # The headers with the Windows pyconfig.h: a copy, since Python.h's #include "pyconfig.h"
-  # finds the file next to it before any -I folder.
+  # finds the file next to it before any -I folder. (Copied over, not afresh: unchanged
+  # files keep their times, so a reconfigure does not recompile the module.)
   set(include ${CMAKE_BINARY_DIR}/windows_python/${tag}/include)
-  file(REMOVE_RECURSE ${include})
   file(COPY ${host_include}/ DESTINATION ${include} PATTERN pyconfig.h EXCLUDE)
   configure_file(${PROJECT_SOURCE_DIR}/cmake/windows/pyconfig.h ${include}/pyconfig.h COPYONLY)
 

@@ -19,6 +19,7 @@ Exit status: 0 when every step passed.
 import argparse
 import glob
 import os
+import shutil
 import subprocess
 import sys
 import sysconfig
@@ -59,6 +60,7 @@ def extension(args):
         for path in sorted(stage.rglob("*")):
             if path.is_file():
                 z.write(path, path.relative_to(stage).as_posix())
+    shutil.rmtree(stage)
     print("extension zip for %s: %s" % (args.platform, out))
 
 

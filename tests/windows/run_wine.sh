@@ -10,6 +10,10 @@ if [ -z "$wine" ]; then
   echo "windows: wine is not installed (scripts/install_deps.sh --windows): skipped"
   exit 3
 fi
+if [ ! -f "$1" ]; then
+  echo "windows: $1 was not built (windows_build skipped: no mingw-w64?): skipped"
+  exit 3
+fi
 export WINEPREFIX=$win/wineprefix WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
 if [ ! -f "$WINEPREFIX/system.reg" ]; then
   ( flock 9; [ -f "$WINEPREFIX/system.reg" ] || "$wine" wineboot -i >/dev/null 2>&1 ) 9> "$win/wineprefix.lock"
