@@ -32,23 +32,34 @@ py::array_t<int64_t> int_matrix(const RowMatrixX2i& M) {
 }  // namespace
 
 void bind_deformer(py::module_& m) {
-  py::class_<NewtonOptions>(m, "NewtonOptions", "Settings of the direct Newton method (acceleration=\"direct\").")
-      .def(py::init([](int lead_in, int start_level, int correction, int stages, double stage_tolerance, bool secant, double extrapolate, int level_patience, bool ladder) {
-             if (lead_in < 0) throw std::invalid_argument("lead_in must be >= 0, got " + std::to_string(lead_in));
+  py::class_<NewtonOptions>(m, "NewtonOptions", "Settings of the Newton method (acceleration=\"newton\").")
+      .def(py::init([](int lead_in, const std::string& projection, bool lifted) {
+             if (lead_in < 0) throw std::invalid_argument("lead_in must be at least 0, got " + std::to_string(lead_in));
+             if (projection != "ladder" && projection != "full")
+               throw std::invalid_argument("projection must be \"ladder\" or \"full\", got \"" + projection + "\"");
              NewtonOptions o;
              o.lead_in = lead_in;
-             if (start_level < 0 || start_level >= kProjectionLevelCount)
-               throw std::invalid_argument("start_level must be in [0, " + std::to_string(kProjectionLevelCount - 1) + "]");
-             o.start_level = start_level;
-             o.correction = correction; o.stages = stages; o.stage_tolerance = stage_tolerance; o.secant = secant; o.extrapolate = extrapolate; o.level_patience = level_patience; o.ladder = ladder;
+             o.ladder = projection == "ladder";
+             o.lifted = lifted;
              return o;
            }),
-           py::arg("lead_in") = NewtonOptions{}.lead_in, py::arg("start_level") = NewtonOptions{}.start_level,
-           py::arg("correction") = NewtonOptions{}.correction, py::arg("stages") = 1, py::arg("stage_tolerance") = 1e-2, py::arg("secant") = true, py::arg("extrapolate") = 0.0, py::arg("level_patience") = 1, py::arg("ladder") = true)
+           py::arg("lead_in") = NewtonOptions{}.lead_in, py::arg("projection") = "ladder",
+           py::arg("lifted") = NewtonOptions{}.lifted,
+           R"doc(lead_in: Anderson iterations before the first Newton step of a cold or moved-target start.
+projection, lifted: for the diagnostic that chose the method (bench/bench_newton.py): at
+    lambda 1, "ladder" projects only the terms below a level that factors, "full" uses K
+    where it factors and else projects every indefinite term; lifted trials move along the
+    step's rotation response, else straight.)doc")
       .def_readonly("lead_in", &NewtonOptions::lead_in, "Anderson iterations before the first Newton step")
-      .def_readonly("start_level", &NewtonOptions::start_level,
-                    "lambda = 1: the projection level a start begins at")
-      .def_readonly("correction", &NewtonOptions::correction, "lambda = 1: 0, 1 plain or 2 chord correction");
+      .def_property_readonly(
+          "projection", [](const NewtonOptions& o) { return std::string(o.ladder ? "ladder" : "full"); },
+          "\"ladder\" or \"full\"")
+      .def_readonly("lifted", &NewtonOptions::lifted, "trials lifted into the fit")
+      .def("__repr__", [](const NewtonOptions& o) {
+        return "NewtonOptions(lead_in=" + std::to_string(o.lead_in) + ", projection='" + (o.ladder ? "ladder" : "full") +
+               "', lifted=" + (o.lifted ? "True" : "False") + ")";
+      });
+
   py::class_<SolveResult>(m, "SolveResult", "Result of Deformer.solve.")
       .def_readonly("positions", &SolveResult::positions, "(n, 3) float64: every vertex, constrained ones included")
       .def_readonly("iterations", &SolveResult::iterations, "global steps taken in this call")
@@ -66,26 +77,17 @@ void bind_deformer(py::module_& m) {
       .def_readonly("accelerated_steps", &SolveResult::accelerated_steps, "Anderson steps kept")
       .def_readonly("rejected_steps", &SolveResult::rejected_steps,
                     "Anderson steps discarded by the safeguard (the plain step was taken instead)")
-      .def_readonly("newton_steps", &SolveResult::newton_steps, "Newton-Krylov steps taken")
-      .def_readonly("krylov_iterations", &SolveResult::krylov_iterations,
-                    "products with the Newton operator over all Newton steps (each with one back-substitution)")
+      .def_readonly("newton_steps", &SolveResult::newton_steps, "Newton steps taken")
       .def_readonly("line_search_failures", &SolveResult::line_search_failures,
                     "Newton steps whose line search failed (plain steps were taken instead)")
       .def_readonly("newton_factorizations", &SolveResult::newton_factorizations,
-                    "direct Newton: factorizations of the Newton matrix (failed ones included)")
-      .def_readonly("corrections", &SolveResult::corrections, "direct Newton: trials kept after a correction")
-      .def_readonly("assemble_ms", &SolveResult::assemble_ms, "direct Newton: total ms assembling the Newton matrix")
-      .def_readonly("newton_factor_ms", &SolveResult::newton_factor_ms,
-                    "direct Newton: total ms factoring the Newton matrix")
-      .def_readonly("coarse_dimension", &SolveResult::coarse_dimension, "unknowns of the coarse space (0: none)")
-      .def_readonly("coarse_factorizations", &SolveResult::coarse_factorizations, "coarse operators factored")
-      .def_readonly("predictions", &SolveResult::predictions, "coarse predictor steps taken (coarse_predictor)")
+                    "Newton: factorizations of the Newton matrix (failed ones included)")
+      .def_readonly("newton_fallbacks", &SolveResult::newton_fallbacks,
+                    "Newton: 1 when its steps stopped lowering the merit and Anderson finished")
+      .def_readonly("assemble_ms", &SolveResult::assemble_ms, "Newton: total ms assembling the Newton matrix")
+      .def_readonly("newton_factor_ms", &SolveResult::newton_factor_ms, "Newton: total ms factoring the Newton matrix")
       .def_readonly("claim_checks", &SolveResult::claim_checks, "Arnoldi checks of a convergence claim (verify_claims)")
       .def_readonly("refused_claims", &SolveResult::refused_claims, "... after which the claim was refused")
-      .def_readonly("predictions_kept", &SolveResult::predictions_kept, "... of which the predicted point was kept")
-      .def_readonly("linearize_ms", &SolveResult::linearize_ms, "total ms linearizing the local fit (Newton)")
-      .def_readonly("coarse_ms", &SolveResult::coarse_ms, "total ms assembling and factoring coarse operators (Newton)")
-      .def_readonly("krylov_ms", &SolveResult::krylov_ms, "total ms in the Krylov solves (Newton)")
       .def_readonly("warnings", &SolveResult::warnings,
                     "list[str]: not converged, vertices kept at rest, torn seams, ...")
       .def_readonly("factor_ms", &SolveResult::factor_ms, "assembly + factorization in this call (0 when reused)")
@@ -156,8 +158,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
           "solve",
           [](Deformer& d, const TargetsArg& targets_arg, int max_iterations, double tolerance, bool warm_start,
              const OptionalPointsArg& initial_arg, const std::string& acceleration, int anderson_window,
-             int krylov_iterations, int coarse_patches, int coarse_blend, bool coarse_predictor, bool verify_claims,
-             const std::optional<NewtonOptions>& newton) {
+             bool verify_claims, const std::optional<NewtonOptions>& newton) {
             const py::handle& targets = targets_arg.obj;
             const py::handle& initial = initial_arg.obj;
             SolveOptions o;
@@ -166,10 +167,6 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
             o.warm_start = warm_start;
             o.acceleration = parse_acceleration(acceleration);
             o.anderson_window = anderson_window;
-            o.krylov_iterations = krylov_iterations;
-            o.coarse_patches = coarse_patches;
-            o.coarse_blend = coarse_blend;
-            o.coarse_predictor = coarse_predictor;
             o.verify_claims = verify_claims;
             if (newton) o.newton = *newton;
             if (!initial.is_none()) o.initial = to_points(initial, "initial");
@@ -187,10 +184,6 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
           py::arg("tolerance") = SolveOptions{}.tolerance, py::arg("warm_start") = true, py::arg("initial") = py::none(),
           py::arg("acceleration") = acceleration_name(SolveOptions{}.acceleration),
           py::arg("anderson_window") = SolveOptions{}.anderson_window,
-          py::arg("krylov_iterations") = SolveOptions{}.krylov_iterations,
-          py::arg("coarse_patches") = SolveOptions{}.coarse_patches,
-          py::arg("coarse_blend") = SolveOptions{}.coarse_blend,
-          py::arg("coarse_predictor") = SolveOptions{}.coarse_predictor,
           py::arg("verify_claims") = SolveOptions{}.verify_claims, py::arg("newton") = py::none(),
           R"doc(Deforms the mesh so that the handles reach their targets.
 
@@ -202,21 +195,15 @@ warm_start: start from the previous solve's shape; with unchanged targets this c
     the same iteration (Anderson history included), so repeated short calls settle on the
     cold solve's shape.
 initial: (n, 3) positions to start from instead (a local step on them first), or None.
-acceleration: "anderson" (default: Anderson-accelerated local/global), "newton" (Newton-Krylov
-    steps with a coarse space) or "none" (the plain local/global method); all reach the same
-    fixed points.
+acceleration: "anderson" (default: Anderson-accelerated local/global), "newton" (an Anderson
+    lead-in, then projected Newton steps, each a sparse factorization of the Newton matrix)
+    or "none" (the plain local/global method). Each ends at a fixed point of the same map;
+    where the energy has several near one another, methods can end at different ones.
 anderson_window: how many past iterates Anderson acceleration combines (1..50).
-krylov_iterations: most Krylov products per Newton step (1..500).
-coarse_patches: about how many patches the Newton preconditioner's coarse space has
-    (0: none; 0..5000).
-coarse_blend: smoothing steps that blend those patches into a partition of unity (0: disjoint
-    patches; 0..100).
-coarse_predictor: live editing: a warm solve whose targets moved starts with one two-level
-    Newton step over that coarse space (two global steps; needs coarse_patches > 0 and
-    max_iterations >= 3), kept only if it lowers |A (G(x) - x)|.
 verify_claims: plain/Anderson: before claiming convergence, estimate J_G's largest modulus
     by 30 Arnoldi steps at the point (each a back-substitution) and claim only if the
     distance bound with it holds too (a secant estimate can miss a slow mode).
+newton: NewtonOptions (the Newton method's settings), or None for the defaults.
 Returns a SolveResult. Ctrl-C raises KeyboardInterrupt between iterations and leaves the
 Deformer usable.)doc")
       .def(
@@ -260,7 +247,7 @@ Deformer usable.)doc")
           "(n_nodes,) float64 lambda per node under the current stiffness")
       .def("_laplacian_coo", [](const Deformer& d) { return to_coo(d.graph().laplacian()); })
       .def("_node_matrix_coo", [](const Deformer& d) { return to_coo(d.graph().node_matrix()); })
-      // Newton-Krylov inspection (tests and bench/): vectors over the free vertices.
+      // Inspection of the one-step map and its derivative (tests and bench/): vectors over the free vertices.
       .def_property_readonly("free_vertices", [](const Deformer& d) { return d.free_vertices(); },
                              "list[int]: the free vertices of the current constraints, in the order of the "
                              "free-vertex vectors of _one_step and _jacobian")
@@ -297,13 +284,12 @@ Deformer usable.)doc")
            },
            py::arg("X"), py::arg("rotations"), py::arg("scales"),
            "the global step's free positions (#free, 3) for these rotations and scales, X's fixed rows")
-      .def("_coarse_basis_coo", [](Deformer& d, int patches, int blend) { return to_coo(d.coarse_basis_matrix(patches, blend)); },
-           py::arg("patches"), py::arg("blend") = 0)
-      .def("_coarse_operator_coo",
-           [](Deformer& d, const py::handle& X, int patches, int blend) {
-             return to_coo(d.coarse_operator_at(to_points(X, "X"), patches, blend));
+      .def("_newton_matrix_coo",
+           [](Deformer& d, const py::handle& X, double projection) {
+             return to_coo(d.newton_matrix_at(to_points(X, "X"), projection));
            },
-           py::arg("X"), py::arg("patches"), py::arg("blend") = 0);
+           py::arg("X"), py::arg("projection") = 0.0,
+           "the Newton matrix K at X as COO (3 #free square; row 3 v + c is coordinate c of free vertex v)");
 }
 
 }  // namespace edgedeform::bindings

@@ -36,7 +36,7 @@ void ConvergenceMonitor::add(const Eigen::MatrixXd& y, const Eigen::MatrixXd& g,
 }
 
 double ConvergenceMonitor::rate() const {
-  if (count_ < min_ratios_) return std::numeric_limits<double>::infinity();
+  if (count_ < kMinRatios) return std::numeric_limits<double>::infinity();
   return std::max(rate_floor_, *std::max_element(ratios_.begin(), ratios_.begin() + count_));
 }
 

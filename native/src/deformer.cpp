@@ -1,8 +1,6 @@
 #include "edgedeform/deformer.h"
 
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -34,12 +32,8 @@ void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX
   check_distance(targets, range.center, range.limit, "targets");
   if (o.anderson_window < 1 || o.anderson_window > 50)
     throw std::invalid_argument("anderson_window must be in [1, 50], got " + std::to_string(o.anderson_window));
-  if (o.krylov_iterations < 1 || o.krylov_iterations > 500)
-    throw std::invalid_argument("krylov_iterations must be in [1, 500], got " + std::to_string(o.krylov_iterations));
-  if (o.coarse_patches < 0 || o.coarse_patches > 5000)
-    throw std::invalid_argument("coarse_patches must be in [0, 5000], got " + std::to_string(o.coarse_patches));
-  if (o.coarse_blend < 0 || o.coarse_blend > 100)
-    throw std::invalid_argument("coarse_blend must be in [0, 100], got " + std::to_string(o.coarse_blend));
+  if (o.newton.lead_in < 0)
+    throw std::invalid_argument("newton.lead_in must be at least 0, got " + std::to_string(o.newton.lead_in));
   if (o.max_iterations < 1)
     throw std::invalid_argument("max_iterations must be at least 1, got " + std::to_string(o.max_iterations));
   if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance))
@@ -58,7 +52,6 @@ void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX
 const char* acceleration_name(Acceleration a) {
   switch (a) {
     case Acceleration::Newton: return "newton";
-    case Acceleration::Direct: return "direct";
     case Acceleration::Anderson: return "anderson";
     case Acceleration::None: break;
   }
@@ -69,8 +62,7 @@ Acceleration parse_acceleration(const std::string& name) {
   if (name == "newton") return Acceleration::Newton;
   if (name == "anderson") return Acceleration::Anderson;
   if (name == "none") return Acceleration::None;
-  if (name == "direct") return Acceleration::Direct;
-  throw std::invalid_argument("acceleration must be \"newton\", \"anderson\", \"none\" or \"direct\", got \"" + name + "\"");
+  throw std::invalid_argument("acceleration must be \"newton\", \"anderson\" or \"none\", got \"" + name + "\"");
 }
 
 Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, bool clamp_negative_weights) {
@@ -110,7 +102,6 @@ void Deformer::set_constraints(const ConstraintSets& sets) {
   system_ = std::move(system);
   assembled_.reset();
   iter_.positions_valid = false;  // the free vertices changed
-  coarse_.constraints_changed();
 }
 
 void Deformer::set_stiffness(double lambda) {
@@ -139,7 +130,6 @@ void Deformer::ensure_factored(SolveResult& result) {
   assembled_ = std::move(assembled);
   stiffness_changed_ = false;
   iter_.continuable = false;  // a new system: a new map G
-  coarse_.operators_changed();
   newton_factor_.operators_changed();
   result.factor_ms = ms_since(start);
 }
@@ -176,8 +166,7 @@ struct Deformer::StepProblem final : FixedPointProblem {
   }
   bool factor_newton(const LocalFit& fit, double projection) override {
     const FixedPointLinearization lin(*d.system_, *d.assembled_, fit, d.node_positions_, projection);
-    bool symmetric = d.assembled_->term_lambda.size() > 0 && d.assembled_->term_lambda.minCoeff() >= 1.0;
-    if (std::getenv("EDGEDEFORM_DN_RESIDUAL")) symmetric = false;  // EXPERIMENT
+    const bool symmetric = d.assembled_->term_lambda.size() > 0 && d.assembled_->term_lambda.minCoeff() >= 1.0;
     const bool ok = d.newton_factor_.factor(lin, symmetric);
     ++result.newton_factorizations;
     result.assemble_ms += d.newton_factor_.assemble_ms();
@@ -243,68 +232,14 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   for (int k = 0; k < nc; ++k) x_local.row(nf + k) = constrained.row(sys.fixed_vertices[static_cast<size_t>(k)]);
   const Eigen::MatrixXd c = -(as.K_fixed * x_local.bottomRows(nc));  // the fixed vertices' share
 
-  // EXPERIMENT: continuation's first stage starts from the targets the iterate is at.
-  RowMatrixX3d stage_from(static_cast<Eigen::Index>(sys.handles.size()), 3);
-  const bool iterate_at_old = options.warm_start && !options.initial && iter_.positions_valid &&
-                              iter_.y.rows() == nf && iter_.targets.rows() == targets.rows();
-  for (size_t h = 0; h < sys.handles.size(); ++h)
-    stage_from.row(static_cast<Eigen::Index>(h)) = iterate_at_old ? RowMatrixX3d(iter_.targets.row(static_cast<Eigen::Index>(h)))
-                                                                  : RowMatrixX3d(rest_.row(sys.handles[h]));
-  const bool same_targets_before = iter_.targets.rows() == targets.rows() && iter_.targets == targets;
-  StartPoint start = start_point(targets, options, x_local, result);
-  LocalFit& fit = start.fit;
-  Iteration& it = iter_;
+  LocalFit fit = start_point(targets, options, x_local, result);
   StepProblem problem(*this, c, x_local, result, options);
-  if (start.predict && predict(problem, options, fit, result)) it.continuable = true;  // fit = fit(y)
-  if (options.acceleration == Acceleration::Newton) {
+  if (options.acceleration == Acceleration::Newton)
     iterate_newton(problem, options, fit, result);
-  } else if (options.acceleration == Acceleration::Direct && options.newton.stages > 1 && !same_targets_before) {
-    // EXPERIMENT: continuation, the handles' displacement in stages, a secant predictor.
-    const int stages = options.newton.stages;
-    Eigen::MatrixXd previous_stage = it.y;
-    for (int k = 1; k <= stages; ++k) {
-      const double tau = static_cast<double>(k) / stages;
-      RowMatrixX3d stage_constrained = rest_;
-      for (size_t h = 0; h < sys.handles.size(); ++h)
-        stage_constrained.row(sys.handles[h]) =
-            stage_from.row(static_cast<Eigen::Index>(h)) + tau * (targets.row(static_cast<Eigen::Index>(h)) - stage_from.row(static_cast<Eigen::Index>(h)));
-      for (int j = 0; j < nc; ++j) x_local.row(nf + j) = stage_constrained.row(sys.fixed_vertices[static_cast<size_t>(j)]);
-      const Eigen::MatrixXd stage_c = -(as.K_fixed * x_local.bottomRows(nc));
-      SolveOptions stage_options = options;
-      if (k < stages) stage_options.tolerance = options.newton.stage_tolerance;
-      StepProblem stage_problem(*this, stage_c, x_local, result, stage_options);
-      if (k > 1) {
-        const Eigen::MatrixXd here = it.y;
-        if (options.newton.secant) it.y += it.y - previous_stage;
-        previous_stage = here;
-      }
-      if (k > 1 || it.continuable) {
-        it.energy = stage_problem.local_fit(it.y, fit);
-        it.continuable = true;
-      }
-      it.direct_valid = false;
-      result.converged = false;
-      const size_t warnings = result.warnings.size();
-      iterate_direct(stage_problem, stage_options, fit, result);
-      if (std::getenv("EDGEDEFORM_TRACE")) std::fprintf(stderr, "stage %d of %d: iterations %d newton %d converged %d\n", k, stages, result.iterations, result.newton_steps, result.converged ? 1 : 0);
-      if (k < stages) result.warnings.resize(warnings);
-      if (result.iterations >= options.max_iterations) break;
-    }
-  } else if (options.acceleration == Acceleration::Direct) {
-    iterate_direct(problem, options, fit, result);
-  } else {
-    it.newton_valid = false;  // Newton's state no longer describes the iterate
-    it.direct_valid = false;
-    PlainAndersonSettings settings;
-    settings.max_iterations = options.max_iterations - result.iterations;  // the predictor's steps count
-    settings.tolerance = options.tolerance;
-    settings.diag = diag_;
-    settings.descent = as.term_lambda.size() > 0 && as.term_lambda.minCoeff() >= 1.0;
-    settings.accelerate = options.acceleration == Acceleration::Anderson;
-    settings.verify_claims = options.verify_claims;
-    plain_anderson_solve(problem, settings, PlainAndersonPoint{it.y, fit, it.energy, it.continuable, it.plain}, result);
-  }
+  else
+    iterate_plain_anderson(problem, options, options.max_iterations, fit, result);
 
+  Iteration& it = iter_;
   for (int k = 0; k < nf; ++k) result.positions.row(sys.free_vertices[static_cast<size_t>(k)]) = it.y.row(k);
   it.positions_valid = true;
   if (auto torn = seam_warning(seams_, result.positions, seam_tolerance_)) result.warnings.push_back(*torn);
@@ -312,8 +247,8 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
   return result;
 }
 
-Deformer::StartPoint Deformer::start_point(const RowMatrixX3d& targets, const SolveOptions& options,
-                                           RowMatrixX3d& x_local, SolveResult& result) {
+LocalFit Deformer::start_point(const RowMatrixX3d& targets, const SolveOptions& options, RowMatrixX3d& x_local,
+                               SolveResult& result) {
   const ConstrainedSystem& sys = *system_;
   const int nf = sys.n_free();
   // Continue the last iteration (its Anderson history and rate estimate included) when
@@ -322,10 +257,7 @@ Deformer::StartPoint Deformer::start_point(const RowMatrixX3d& targets, const So
   const bool same_targets = it.targets.rows() == targets.rows() && it.targets == targets;
   const bool warm = options.warm_start && !options.initial;
   const bool resume = warm && it.continuable && same_targets && warm_.has_fit();
-  // Live editing's moved targets: the coarse predictor starts from the last iterate.
-  const bool predicting = options.coarse_predictor && warm && !resume && !same_targets && it.positions_valid &&
-                          it.y.rows() == nf && options.coarse_patches > 0 && options.max_iterations >= 3;
-  StartPoint start{warm_.starting_fit(sys, warm), predicting};
+  LocalFit fit = warm_.starting_fit(sys, warm);
   if (!resume) {
     if (it.y.rows() != nf || !it.positions_valid || !options.warm_start) {  // measure the first step from rest
       it.y.resize(nf, 3);
@@ -334,17 +266,19 @@ Deformer::StartPoint Deformer::start_point(const RowMatrixX3d& targets, const So
     it.plain.restart(nf, options.anderson_window);
     it.targets = targets;
     it.continuable = false;  // fit is not fit(y) yet
+    it.newton_valid = false;
+    it.lead_in_iterations = 0;
   } else {
     it.plain.set_window(nf, options.anderson_window);
   }
   if (options.initial) {
     for (int k = 0; k < nf; ++k) it.y.row(k) = options.initial->row(sys.free_vertices[static_cast<size_t>(k)]);
-    local_step(it.y, x_local, start.fit, result);
-    result.initial_energy = start.fit.energy;
-    it.energy = start.fit.energy;
+    local_step(it.y, x_local, fit, result);
+    result.initial_energy = fit.energy;
+    it.energy = fit.energy;
     it.continuable = true;
   }
-  return start;
+  return fit;
 }
 
 void Deformer::local_step(const Eigen::MatrixXd& y, RowMatrixX3d& x_local, LocalFit& fit, SolveResult& result) {

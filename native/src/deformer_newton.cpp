@@ -1,6 +1,5 @@
-// Deformer's Newton-Krylov iteration and live predictor: the Deformer's one-step map, local
-// fit and factor (Deformer::StepProblem) offered to newton_krylov_solve and coarse_predict,
-// over the coarse space its CoarseCache keeps; and the inspection calls.
+// Deformer's strategies (plain/Anderson, and Newton after its Anderson lead-in) run on its
+// StepProblem, and the inspection calls of the one-step map and its derivative.
 #include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
@@ -8,94 +7,62 @@
 
 #include "edgedeform/deformer.h"
 #include "edgedeform/mesh_checks.h"
-#include "edgedeform/newton_krylov.h"
+#include "edgedeform/newton_matrix.h"
 
 namespace edgedeform {
 
-const CoarseBasis* Deformer::coarse_basis(int patches, int blend) {
-  return coarse_.basis(*system_, rest_, topology_.edges, patches, blend);
-}
-
-bool Deformer::predict(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit, SolveResult& result) {
-  const CoarseBasis* basis = coarse_basis(options.coarse_patches, options.coarse_blend);
-  if (!basis) return false;
+void Deformer::iterate_plain_anderson(FixedPointProblem& problem, const SolveOptions& options, int budget, LocalFit& fit,
+                                      SolveResult& result) {
   Iteration& it = iter_;
-  const PredictorOutcome outcome =
-      coarse_predict(problem, *basis, coarse_.stiffness(assembled_->A), coarse_.predictor(), diag_, it.y, fit,
-                     it.energy, result);
-  ++result.predictions;
-  if (outcome.kept) {
-    ++result.predictions_kept;
-    it.plain.monitor.require_full_window();  // its first ratios would be the fast modes'
-  }
-  result.coarse_dimension = basis->dimension();
-  it.newton_valid = false;  // Newton's state was for other targets
-  return true;
+  it.newton_valid = false;  // Newton's state no longer describes the iterate
+  PlainAndersonSettings settings;
+  settings.max_iterations = budget;
+  settings.tolerance = options.tolerance;
+  settings.diag = diag_;
+  settings.descent = assembled_->term_lambda.size() > 0 && assembled_->term_lambda.minCoeff() >= 1.0;
+  settings.accelerate = options.acceleration != Acceleration::None;
+  settings.verify_claims = options.verify_claims;
+  plain_anderson_solve(problem, settings, PlainAndersonPoint{it.y, fit, it.energy, it.continuable, it.plain}, result);
 }
 
 void Deformer::iterate_newton(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit,
                               SolveResult& result) {
   Iteration& it = iter_;
+  const int lead_in_left = options.newton.lead_in - it.lead_in_iterations;
+  if (!it.newton_valid && lead_in_left > 0) {
+    // The Anderson lead-in, counted since the targets were set (live ticks share it); its
+    // "not converged" at the end of the lead-in is not the solve's.
+    const size_t warnings = result.warnings.size();
+    const int before = result.iterations;
+    iterate_plain_anderson(problem, options, std::min(lead_in_left, options.max_iterations), fit, result);
+    it.lead_in_iterations += result.iterations - before;
+    if (result.converged || result.iterations >= options.max_iterations) return;
+    result.warnings.resize(warnings);
+  }
+  const bool fresh = !it.continuable || !it.newton_valid;
+  // A solve that continues a fitted iterate (live editing standing still) goes on with the
+  // last call's Newton state; a fresh start takes a plain step first when the fit is not y's.
+  if (fresh) it.newton.reset(it.continuable ? 0 : 1);
+  if (fresh && !options.newton.ladder) it.newton.level = 0;  // "full": K itself first
+  it.newton_valid = true;
+  it.plain.forget();  // the Anderson state and rate estimate do not describe Newton's iterates
   NewtonSettings settings;
   settings.max_iterations = options.max_iterations;
   settings.tolerance = options.tolerance;
   settings.diag = diag_;
   settings.descent = assembled_->term_lambda.size() > 0 && assembled_->term_lambda.minCoeff() >= 1.0;
-  settings.krylov_iterations = options.krylov_iterations;
-  // A solve that continues a fitted iterate (live editing standing still) goes on with the
-  // last call's Newton state; a cold start or moved targets start afresh (the naive or
-  // previous step, then a plain step).
-  if (!it.continuable || !it.newton_valid) it.newton.reset(2, settings.descent);
-  it.newton_valid = true;
-  settings.coarse = coarse_basis(options.coarse_patches, options.coarse_blend);
-  if (settings.coarse) {
-    settings.coarse_stiffness = &coarse_.stiffness(assembled_->A);
-    settings.coarse_correction = &coarse_.newton_correction();
-    result.coarse_dimension = settings.coarse->dimension();
-  }
-  result.energies.reserve(static_cast<size_t>(options.max_iterations));
-  result.residuals.reserve(static_cast<size_t>(options.max_iterations));
-  // The Anderson state and rate estimate do not describe Newton's iterates.
-  it.plain.forget();
-  newton_krylov_solve(problem, settings, IterationPoint{it.y, fit, it.energy, it.continuable, it.newton}, result);
-}
-
-void Deformer::iterate_direct(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit,
-                              SolveResult& result) {
-  Iteration& it = iter_;
-  const bool descent = assembled_->term_lambda.size() > 0 && assembled_->term_lambda.minCoeff() >= 1.0;
-  const bool fresh = !it.continuable || !it.direct_valid;
-  it.newton_valid = false;
-  if (fresh && options.newton.lead_in > 0) {  // an Anderson lead-in
-    PlainAndersonSettings lead;
-    lead.max_iterations = std::min(options.newton.lead_in, options.max_iterations);
-    lead.tolerance = options.tolerance;
-    lead.diag = diag_;
-    lead.descent = descent;
-    const size_t warnings = result.warnings.size();
-    plain_anderson_solve(problem, lead, PlainAndersonPoint{it.y, fit, it.energy, it.continuable, it.plain}, result);
-    if (result.converged || result.iterations >= options.max_iterations) {
-      it.direct_valid = false;
-      return;
-    }
-    result.warnings.resize(warnings);  // its "not converged" is not the solve's
-  }
-  if (fresh) it.direct.reset(it.continuable ? 0 : 1, options.newton.start_level);
-  it.direct_valid = true;
-  it.plain.forget();  // the Anderson state and rate estimate do not describe Newton's iterates
-  DirectNewtonSettings settings;
-  settings.max_iterations = options.max_iterations;
-  settings.tolerance = options.tolerance;
-  settings.diag = diag_;
-  settings.descent = descent && !std::getenv("EDGEDEFORM_DN_RESIDUAL");  // EXPERIMENT
-  settings.start_level = options.newton.start_level;
-  settings.correction = options.newton.correction;
-  settings.extrapolate = options.newton.extrapolate;
-  settings.level_patience = options.newton.level_patience;
   settings.ladder = options.newton.ladder;
+  settings.lifted = options.newton.lifted;
   result.energies.reserve(static_cast<size_t>(options.max_iterations));
   result.residuals.reserve(static_cast<size_t>(options.max_iterations));
-  direct_newton_solve(problem, settings, DirectNewtonPoint{it.y, fit, it.energy, it.continuable, it.direct}, result);
+  const NewtonEnd end =
+      projected_newton_solve(problem, settings, NewtonPoint{it.y, fit, it.energy, it.continuable, it.newton}, result);
+  if (end == NewtonEnd::GaveUp && result.iterations < options.max_iterations) {
+    // Newton's steps stopped lowering the merit: Anderson for the rest of the budget.
+    ++result.newton_fallbacks;
+    it.plain.restart(static_cast<int>(it.y.rows()), options.anderson_window);
+    iterate_plain_anderson(problem, options, options.max_iterations - result.iterations, fit, result);
+  }
 }
 
 const std::vector<int>& Deformer::free_vertices() const {
@@ -176,25 +143,16 @@ Eigen::MatrixXd Deformer::jacobian_product(const RowMatrixX3d& X, const Eigen::M
   return out;
 }
 
-SparseMatrix Deformer::coarse_basis_matrix(int patches, int blend) {
+SparseMatrix Deformer::newton_matrix_at(const RowMatrixX3d& X, double projection) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!system_) throw std::invalid_argument("set_constraints(handles=...) must be called first");
-  if (patches < 1) throw std::invalid_argument("patches must be at least 1");
-  const CoarseBasis* b = coarse_basis(patches, blend);
-  if (!b) return SparseMatrix(3 * system_->n_free(), 0);
-  return edgedeform::coarse_basis_matrix(*b);
-}
-
-SparseMatrix Deformer::coarse_operator_at(const RowMatrixX3d& X, int patches, int blend) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  if (!(projection >= 0.0 && projection <= 1.0)) throw std::invalid_argument("projection must be in [0, 1]");
   RowMatrixX3d x_local;
   LocalFit fit;
   prepare_point(X, x_local, fit);
-  if (patches < 1) throw std::invalid_argument("patches must be at least 1");
-  const CoarseBasis* b = coarse_basis(patches, blend);
-  if (!b) return SparseMatrix(0, 0);
-  const FixedPointLinearization lin(*system_, *assembled_, fit, node_positions_);
-  return coarse_operator(*b, coarse_.stiffness(assembled_->A), lin);
+  const FixedPointLinearization lin(*system_, *assembled_, fit, node_positions_, projection);
+  NewtonMatrix K(*system_, *assembled_);
+  K.assemble(lin);
+  return SparseMatrix(K.transpose().transpose());
 }
 
 }  // namespace edgedeform

@@ -62,25 +62,3 @@ TEST(ConvergenceMonitor, NothingIsClaimedBeforeTheRateIsSeen) {
   monitor.add(g, g, false);                    // not a pair of the map: no ratio from it
   EXPECT_FALSE(std::isfinite(monitor.rate()));
 }
-
-TEST(ConvergenceMonitor, AfterAPredictionAFullWindowIsNeededUntilTheNextReset) {
-  // Ratios of 0.5: kMinRatios of them give a rate, unless a full window was required.
-  const auto feed = [](ConvergenceMonitor& m, int pairs) {
-    Eigen::MatrixXd y = Eigen::MatrixXd::Zero(1, 3), g = y;
-    for (int k = 0; k <= pairs; ++k) {
-      y(0, 0) = std::pow(0.5, k);
-      g(0, 0) = std::pow(0.5, k + 1);
-      m.add(y, g, true);
-    }
-  };
-  ConvergenceMonitor monitor;
-  monitor.resize(1);
-  monitor.require_full_window();
-  feed(monitor, ConvergenceMonitor::kMinRatios);
-  EXPECT_FALSE(std::isfinite(monitor.rate()));
-  feed(monitor, ConvergenceMonitor::kWindow);
-  EXPECT_DOUBLE_EQ(monitor.rate(), 0.5);
-  monitor.reset();  // a new start: back to kMinRatios
-  feed(monitor, ConvergenceMonitor::kMinRatios);
-  EXPECT_DOUBLE_EQ(monitor.rate(), 0.5);
-}

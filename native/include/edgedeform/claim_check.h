@@ -9,7 +9,7 @@
 
 #include <Eigen/Core>
 
-#include "edgedeform/newton_krylov.h"
+#include "edgedeform/fixed_point_problem.h"
 
 namespace edgedeform {
 

@@ -47,22 +47,16 @@ class ConvergenceMonitor {
   static constexpr double kSlowestRate = 0.9999;
 
   void resize(Eigen::Index rows);  // allocates the two copies; forgets everything
-  void reset() { has_last_ = false; count_ = 0; next_ = 0; min_ratios_ = kMinRatios; rate_floor_ = 0.0; }
+  void reset() { has_last_ = false; count_ = 0; next_ = 0; rate_floor_ = 0.0; }
   // Until the next reset, the rate is at least `rho` (a claim check's estimate of J_G's
   // largest modulus, claim_check.h), whatever the secant ratios say.
   void raise_rate(double rho) { rate_floor_ = std::max(rate_floor_, rho); }
-  // Until the next reset, no estimate before a full window of ratios: after a jump that
-  // removed most of the slow mode (live editing's coarse predictor), the first ratios are
-  // the fast modes' and the slow mode's show only later (measured: dino lift drag, 10
-  // iterations per tick, edge, lambda 1: claimed 2.9e-4 after 8 ratios while 1.7e-3 away).
-  void require_full_window() { min_ratios_ = kWindow; }
 
   // Records y and g, which is G(y) when `is_map_pair` (false for the first step of a cold
   // start, which solves with rotations that were not fitted to y).
   void add(const Eigen::MatrixXd& y, const Eigen::MatrixXd& g, bool is_map_pair);
 
-  // Largest recent secant ratio, or infinity while fewer than kMinRatios (or, after
-  // require_full_window, kWindow) are known.
+  // Largest recent secant ratio, or infinity while fewer than kMinRatios are known.
   double rate() const;
   // Estimated |G(y) - x*| / diag given the residual |G(y) - y| / diag of the last pair.
   double distance(double residual) const;
@@ -71,7 +65,6 @@ class ConvergenceMonitor {
   Eigen::MatrixXd last_y_, last_g_;
   std::array<double, kWindow> ratios_{};
   int count_ = 0, next_ = 0;
-  int min_ratios_ = kMinRatios;
   double rate_floor_ = 0.0;
   bool has_last_ = false;
 };

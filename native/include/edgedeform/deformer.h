@@ -5,8 +5,8 @@
 // It wires the core's parts together, as libigl's arap_precomputation / arap_solve pair:
 // the precomputation (ensure_factored, on the first solve after a change) takes the
 // operators from operator_cache.h and their factor from factor_cache.h; solve() starts from
-// warm_state.h and runs a strategy, plain/Anderson (fixed_point_iteration.h) or
-// Newton-Krylov (newton_krylov.h), on one FixedPointProblem.
+// warm_state.h and runs a strategy, plain/Anderson (fixed_point_iteration.h) or projected
+// Newton (projected_newton.h, after an Anderson lead-in), on one FixedPointProblem.
 #pragma once
 
 #include <functional>
@@ -16,14 +16,12 @@
 #include <string>
 #include <vector>
 
-#include "edgedeform/coarse_cache.h"
 #include "edgedeform/constrained_system.h"
-#include "edgedeform/direct_newton.h"
 #include "edgedeform/edge_topology.h"
 #include "edgedeform/factor_cache.h"
 #include "edgedeform/fixed_point_iteration.h"
 #include "edgedeform/newton_factor.h"
-#include "edgedeform/newton_krylov.h"
+#include "edgedeform/projected_newton.h"
 #include "edgedeform/node_graph.h"
 #include "edgedeform/operator_cache.h"
 #include "edgedeform/seams.h"
@@ -33,27 +31,23 @@
 
 namespace edgedeform {
 
-enum class Acceleration { None, Anderson, Newton, Direct };
+enum class Acceleration { None, Anderson, Newton };
 const char* acceleration_name(Acceleration a);
 // "none" | "anderson" | "newton"; anything else throws std::invalid_argument.
 Acceleration parse_acceleration(const std::string& name);
 
-// The direct Newton method's settings (direct_newton.h).
+// The Newton method's settings (acceleration Newton).
 struct NewtonOptions {
-  // A cold or moved-target start first runs this many Anderson iterations (0: none).
-  int lead_in = 0;
-  // lambda = 1: the projection level a start begins at (direct_newton.h's kProjectionLevels).
-  int start_level = 3;
-  // lambda = 1: a trial that fails its line search is first corrected: 0 no, 1 by a plain
-  // step, 2 by a chord step with the same factor.
-  int correction = 0;
-  double extrapolate = 0.0;  // EXPERIMENT
-  int level_patience = 1;    // EXPERIMENT
-  bool ladder = true;        // EXPERIMENT
-  // EXPERIMENT: continuation stages, their tolerance, secant predictor.
-  int stages = 1;
-  double stage_tolerance = 1e-2;
-  bool secant = true;
+  // A cold or moved-target start first runs up to this many Anderson iterations: they settle
+  // the stiff part of the error cheaply and keep the solve in the basin Anderson finds (the
+  // head lift without them: another minimum, 3.6e-3 of the diagonal away; docs/decisions/0029).
+  int lead_in = 100;
+  // For the diagnostic that chose the method (bench/bench_newton.py, docs/decisions/0029):
+  // lambda = 1: "ladder" (default) projects only the terms below a level that factors;
+  // "full" uses K itself where it factors and else projects every indefinite term.
+  // `lifted` (default) moves each trial along the step's rotation response, else straight.
+  bool ladder = true;
+  bool lifted = true;
 };
 
 struct SolveOptions {
@@ -65,16 +59,6 @@ struct SolveOptions {
   std::optional<RowMatrixX3d> initial;  // start with a local step on these positions
   Acceleration acceleration = Acceleration::Anderson;
   int anderson_window = 5;
-  // Newton-Krylov (newton_krylov.h): most Krylov products per Newton step, and about how
-  // many patches the coarse space has (0: none, the one-level preconditioner), and how many
-  // smoothing steps blend the patches into a partition of unity (coarse_space.h).
-  int krylov_iterations = 30;
-  int coarse_patches = 200;
-  int coarse_blend = 0;
-  // Live editing: a warm solve whose targets moved starts with one coarse two-level step
-  // (coarse_predictor.h) over the coarse space above (needs coarse_patches > 0 and
-  // max_iterations >= 3: it takes two global steps).
-  bool coarse_predictor = false;
   // Plain/Anderson: before a convergence claim, estimate J_G's largest modulus by Arnoldi
   // steps at the point (claim_check.h) and claim only if the bound with it holds too.
   bool verify_claims = false;
@@ -94,15 +78,12 @@ struct SolveResult {
   std::vector<double> residuals;
   double distance_estimate = 0.0;               // of the result to the fixed point, / diag
   int accelerated_steps = 0, rejected_steps = 0;  // Anderson steps taken; discarded by the safeguard
-  int newton_steps = 0, krylov_iterations = 0;  // Newton-Krylov: steps, products with K in all
+  int newton_steps = 0;                         // Newton: steps taken
   int line_search_failures = 0;                 // Newton steps that gave way to plain steps
-  int newton_factorizations = 0;
-  int corrections = 0;                          // direct Newton: trials kept after a second-order correction                // direct Newton: factorizations of K (failed ones included)
-  double assemble_ms = 0.0, newton_factor_ms = 0.0;  // direct Newton: assembling K, factoring it
-  int coarse_factorizations = 0, coarse_dimension = 0;  // of the coarse space (0: none)
-  int predictions = 0, predictions_kept = 0;    // coarse predictor steps (coarse_predictor)
+  int newton_factorizations = 0;                // Newton: factorizations of K (failed ones included)
+  int newton_fallbacks = 0;                     // Newton's steps stopped lowering the merit: Anderson finished
+  double assemble_ms = 0.0, newton_factor_ms = 0.0;  // Newton: assembling K, factoring it (totals)
   int claim_checks = 0, refused_claims = 0;     // verify_claims: checks made, claims refused
-  double linearize_ms = 0.0, coarse_ms = 0.0, krylov_ms = 0.0;  // Newton-Krylov totals
   std::optional<double> initial_energy;         // energy of `initial`, when given
   bool converged = false;
   std::vector<std::string> warnings;
@@ -131,7 +112,7 @@ class Deformer {
   // Energy of positions X over every node, with R_i, s_i fitted to X.
   double energy(const RowMatrixX3d& X) const;
 
-  // Inspection of the Newton-Krylov pieces (tests, diagnostics). X (#V x 3) is a full shape
+  // Inspection of the one-step map and its derivative (tests, diagnostics). X (#V x 3) is a full shape
   // whose constrained rows give the fixed vertices; vectors are over the free vertices
   // (#free x 3, in free_vertices() order). Each factors the system first if needed.
   Eigen::MatrixXd one_step_map(const RowMatrixX3d& X);  // G(X)
@@ -144,9 +125,9 @@ class Deformer {
   LocalFit local_fit_at(const RowMatrixX3d& X);
   Eigen::MatrixXd global_step_with(const RowMatrixX3d& X, const std::vector<Eigen::Matrix3d>& rotation,
                                    const Eigen::VectorXd& scale);
-  // U (3 #free x k; row v + #free c is coordinate c of free vertex v), and U^T K U at X.
-  SparseMatrix coarse_basis_matrix(int patches, int blend = 0);
-  SparseMatrix coarse_operator_at(const RowMatrixX3d& X, int patches, int blend = 0);
+  // The Newton matrix K at X (3 #free x 3 #free, row 3 v + c coordinate c of free vertex v):
+  // `projection` as linearize_fit's (0: K itself).
+  SparseMatrix newton_matrix_at(const RowMatrixX3d& X, double projection = 0.0);
   const std::vector<int>& free_vertices() const;
 
   int n_vertices() const { return static_cast<int>(rest_.rows()); }
@@ -176,21 +157,14 @@ class Deformer {
   // returns the fixed vertices' share c; x_local and fit hold the point.
   Eigen::MatrixXd prepare_point(const RowMatrixX3d& X, RowMatrixX3d& x_local, LocalFit& fit);
   // Where a solve starts: iter_ continued (same targets, warm) or restarted (from the last
-  // iterate when warm, else from rest; `initial` when given), and the fit to start with.
-  struct StartPoint {
-    LocalFit fit;
-    bool predict = false;  // live editing's moved targets: the coarse predictor goes first
-  };
-  StartPoint start_point(const RowMatrixX3d& targets, const SolveOptions& options, RowMatrixX3d& x_local,
-                         SolveResult& result);
-  // Moved targets, warm: the coarse predictor's step from it.y (true if it ran).
-  bool predict(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit, SolveResult& result);
-  // The fixed point by direct Newton steps (direct_newton.h), after the lead-in.
-  void iterate_direct(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit, SolveResult& result);
-  // The fixed point by Newton-Krylov steps (newton_krylov.h).
+  // iterate when warm, else from rest; `initial` when given); returns the fit to start with.
+  LocalFit start_point(const RowMatrixX3d& targets, const SolveOptions& options, RowMatrixX3d& x_local,
+                       SolveResult& result);
+  // The fixed point by Newton steps (projected_newton.h), after the Anderson lead-in.
   void iterate_newton(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit, SolveResult& result);
-  // coarse_.basis() of the current constraints (null for none).
-  const CoarseBasis* coarse_basis(int patches, int blend);
+  // The fixed point by plain or Anderson steps (fixed_point_iteration.h) for `budget` iterations.
+  void iterate_plain_anderson(FixedPointProblem& problem, const SolveOptions& options, int budget, LocalFit& fit,
+                              SolveResult& result);
   // One local step on free positions y (fixed rows of x_local already set).
   void local_step(const Eigen::MatrixXd& y, RowMatrixX3d& x_local, LocalFit& fit, SolveResult& result);
 
@@ -209,7 +183,7 @@ class Deformer {
   bool stiffness_changed_ = false;              // assembled_ holds another lambda
   OperatorCache operators_;  // assembles or restricts system_'s operators
   FactorCache factors_;      // factors assembled_'s A; its factor() is the current one
-  NewtonFactor newton_factor_;  // the Newton matrix of assembled_ and its factor (direct Newton)
+  NewtonFactor newton_factor_;  // the Newton matrix of assembled_ and its factor
   WarmState warm_;           // the fit the next warm solve starts from
   // The iteration in progress, continued by a warm solve with the same targets (live editing
   // that stands still settles to the cold solve's fixed point). Owned by solve(); stale after
@@ -221,16 +195,14 @@ class Deformer {
     Eigen::MatrixXd y;            // current iterate (free vertices)
     double energy = 0.0;          // E(y)
     PlainAndersonMemory plain;    // the plain/Anderson strategy's state (fixed_point_iteration.h)
-    NewtonMemory newton;          // Newton-Krylov's state (newton_krylov.h)
-    DirectNewtonMemory direct;    // direct Newton's state (direct_newton.h)
-    bool direct_valid = false;    // direct describes this iteration
+    NewtonMemory newton;          // Newton's state (projected_newton.h)
     bool newton_valid = false;    // newton describes this iteration (false after Anderson)
+    int lead_in_iterations = 0;   // Newton's Anderson lead-in done since the targets were set
   } iter_;
   double diag_ = 0.0;             // rest bounding-box diagonal
   std::vector<double> rhs_term_weights_;  // RotationOperator::apply scratch
   RowMatrixX3d node_positions_;    // local-step scratch
   mutable std::unique_ptr<NodeStencil> full_stencil_;  // for energy(), built on first use
-  CoarseCache coarse_;             // the coarse space of Newton-Krylov and the live predictor
   // The bindings release the GIL: two Python threads sharing a Deformer take turns here.
   mutable std::mutex mutex_;
 };

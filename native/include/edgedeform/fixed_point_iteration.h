@@ -1,13 +1,13 @@
 // The plain local/global iteration x -> G(x) = global(local(x)) of docs/design.md §4, with
-// Anderson acceleration unless disabled, on the same FixedPointProblem as Newton-Krylov
-// (newton_krylov.h), so that the strategies are interchangeable.
+// Anderson acceleration unless disabled, on the same FixedPointProblem as Newton
+// (projected_newton.h), so that the strategies are interchangeable.
 #pragma once
 
 #include <Eigen/Core>
 
 #include "edgedeform/anderson.h"
 #include "edgedeform/convergence.h"
-#include "edgedeform/newton_krylov.h"
+#include "edgedeform/fixed_point_problem.h"
 
 namespace edgedeform {
 

@@ -52,7 +52,7 @@ class RotationOperator {
   // change dR_t = [omega_t]x R_t) and ds_t (#terms) give, per row,
   //     dy_r = sum_blocks omega_t x (R_t g) + ds_t R_t k,
   //     g = (lambda_t + phi_t s_t) h_R + (1 - lambda_t - phi_t) s_t h_T,  k = phi_t h_R + (1 - lambda_t - phi_t) h_T
-  // (local_fit_derivative.h). The Newton-Krylov step's d(rhs)/dx, one pass over the blocks.
+  // (local_fit_derivative.h). The Newton operator's d(rhs)/dx, one pass over the blocks.
   void apply_derivative(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
                         const RowMatrixX3d& omega, const Eigen::VectorXd& dscale, Eigen::MatrixXd& dy) const;
 
