@@ -80,9 +80,10 @@ void bind_deformer(py::module_& m) {
       .def_readonly("coarse_dimension", &SolveResult::coarse_dimension, "unknowns of the coarse space (0: none)")
       .def_readonly("coarse_factorizations", &SolveResult::coarse_factorizations, "coarse operators factored")
       .def_readonly("predictions", &SolveResult::predictions, "coarse predictor steps taken (coarse_predictor)")
+      .def_readonly("predictions_kept", &SolveResult::predictions_kept,
+                    "coarse predictor steps kept (they lowered |A (G(x) - x)|)")
       .def_readonly("claim_checks", &SolveResult::claim_checks, "Arnoldi checks of a convergence claim (verify_claims)")
-      .def_readonly("refused_claims", &SolveResult::refused_claims, "... after which the claim was refused")
-      .def_readonly("predictions_kept", &SolveResult::predictions_kept, "... of which the predicted point was kept")
+      .def_readonly("refused_claims", &SolveResult::refused_claims, "convergence claims those checks refused")
       .def_readonly("linearize_ms", &SolveResult::linearize_ms, "total ms linearizing the local fit (Newton)")
       .def_readonly("coarse_ms", &SolveResult::coarse_ms, "total ms assembling and factoring coarse operators (Newton)")
       .def_readonly("krylov_ms", &SolveResult::krylov_ms, "total ms in the Krylov solves (Newton)")

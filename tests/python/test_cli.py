@@ -217,7 +217,7 @@ def test_overflowing_target_rejected_nothing_written(tmp_path, spot_job, value):
 
 
 def test_quads_uvs_and_normals_survive(tmp_path):
-    """Issue 10: a quad mesh with vt/vn came back triangulated and bare. Now every line but
+    """A quad mesh with vt/vn once came back triangulated and bare. Now every line but
     v and vn is unchanged, and the report says the normals were recomputed."""
     n = 6
     i, j = np.meshgrid(np.arange(n), np.arange(n))

@@ -75,6 +75,7 @@ class Deformer(_NativeDeformer):
 
     @property
     def n_vertices(self):
+        """vertices of the mesh as given (with weld=True: before welding)"""
         return super().n_vertices if self._welding is None else self._welding.n_original
 
     @property
@@ -134,7 +135,8 @@ class Deformer(_NativeDeformer):
     energy.__doc__ = _NativeDeformer.energy.__doc__
 
     def laplacian(self):
-        """Graph Laplacian (n_nodes x n_nodes): SciPy CSR, or (rows, cols, vals) without SciPy."""
+        """Graph Laplacian (n_nodes x n_nodes; L_ii = sum_j w_ij, L_ij = -w_ij): SciPy CSR, or
+        (rows, cols, vals) without SciPy."""
         return _sparse(self._laplacian_coo())
 
     def node_matrix(self):

@@ -66,13 +66,13 @@ def _version():
             f"{sys.version.split()[0]})")
 
 
-def _parser():
-    """The parser; `.commands` holds each subcommand's own parser (docs are made from them).
-    The solve options' defaults and choices are the core's own (SOLVE_DEFAULTS)."""
+def _parser(prog=None):
+    """The parser; `.commands` holds each subcommand's own parser (docs/api.md's tables are
+    made from them). The solve options' defaults and choices are the core's (SOLVE_DEFAULTS)."""
     solve = SOLVE_DEFAULTS
     p = argparse.ArgumentParser(
         # "edgedeform" when run as the console script, "python3 -m edgedeform" otherwise.
-        prog=_program_name(),
+        prog=prog or _program_name(),
         description="Edge-based graph mesh deformation (batch).")
     p.add_argument("--version", action="version", version=_version(),
                    help="the package's version and how its core was built, then exit")
