@@ -3,10 +3,12 @@
 // text, and the acceleration methods. A new SolveOptions field or method is one line in a
 // table; help(), the defaults the command line, the add-on and the docs read
 // (docs/decisions/0050-one-source-for-solve-options.md) and the argument checks follow.
+#include <optional>
 #include <sstream>
 #include <string>
 #include <type_traits>
 
+#include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
 #include "edgedeform/deformer.h"
