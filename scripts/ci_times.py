@@ -29,6 +29,7 @@ RUNS = ROOT / "docs" / "ci_runs"
 PAGE = ROOT / "docs" / "ci_times.md"
 KINDS = {"full": "scripts/test.sh (what .ci/run runs)", "quick": "scripts/test.sh --quick (the fast tier)",
          "demo": "scripts/demo.sh", "custom": "scripts/test.sh with ctest arguments"}
+EARLIER_SHOWN = 8  # sections of older runs on the page (the page stays short; the JSON keeps all)
 BUDGETS = ("`.ci/run`: at most 30 minutes on this 2-core machine (CI stops at 90); "
            "`scripts/test.sh --quick` from a built tree: at most 3 minutes.")
 
@@ -74,6 +75,28 @@ def read_junit(paths):
     return tests
 
 
+def ctest_labels(build):
+    """{test: [labels]} from `ctest --show-only=json-v1` (ctest 3.25's JUnit has no labels),
+    with the ctest that configured the build folder; {} when it cannot be asked."""
+    ctest = "ctest"
+    cache = Path(build) / "CMakeCache.txt"
+    if cache.is_file():
+        for line in cache.read_text(errors="replace").splitlines():
+            if line.startswith("CMAKE_CTEST_COMMAND:INTERNAL="):
+                ctest = line.split("=", 1)[1]
+    try:
+        out = subprocess.run([ctest, "--test-dir", str(build), "--show-only=json-v1"],
+                             capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return {}
+    labels = {}
+    for test in json.loads(out).get("tests", []):
+        for prop in test.get("properties", []):
+            if prop.get("name") == "LABELS":
+                labels[test["name"]] = list(prop.get("value") or [])
+    return labels
+
+
 def machine():
     cpu = "unknown CPU"
     try:
@@ -111,13 +134,15 @@ def record(build, kind, what, conditions):
     log = read_log(Path(build) / "ci_times" / f"{kind}.txt")
     junit = ["quick_ctest.xml"] if kind == "quick" else ["ctest.xml", "ctest_timing.xml"]
     tests = read_junit([Path(build) / "ci_times" / j for j in junit])
+    known = ctest_labels(build)
+    tests = [(name, seconds, status, labels or known.get(name, [])) for name, seconds, status, labels in tests]
     counts, by_label, longest = summarize(tests)
     rec = {
         "run": kind, "what": what or KINDS[kind], "date": log.get("started", "not recorded"),
         "commit": log.get("commit", "unknown"), "machine": machine(), "conditions": conditions,
         "load_1min": log["load"], "total_s": log.get("total_s"), "exit": log.get("exit"),
         "tests": counts if tests else None, "phases": log["phases"], "labels": by_label,
-        "labels_note": "wall time of each label's tests (a test in two labels counts in both)",
+        "labels_note": "wall time of each label's tests; a test in two labels counts in both",
         "longest": longest, "source": "scripts/test.sh's log and ctest's JUnit, "
                                       "recorded by scripts/ci_times.py record",
     }
@@ -219,7 +244,9 @@ def page(folder=RUNS):
              and (r.get("pieces") or r.get("phases") or r.get("labels") or r.get("notes"))]
     if older:
         out += ["## Earlier runs: pieces and notes", ""]
-        out += [part for r in older for part in (run_section(r), "")]
+        out += [part for r in older[:EARLIER_SHOWN] for part in (run_section(r), "")]
+        if len(older) > EARLIER_SHOWN:
+            out += [f"{len(older) - EARLIER_SHOWN} older records with pieces: `docs/ci_runs/`.", ""]
     return "\n".join(out).rstrip() + "\n"
 
 
