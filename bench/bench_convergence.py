@@ -224,7 +224,7 @@ def koala_markdown(result):
         "| method | iterations to 1e-3·diag | core ms | target |",
         "|---|---|---|---|",
     ]
-    # (results written before issue 22 keep each method under its own key)
+    # (older results keep each method under its own key)
     methods = k.get("methods") or {m: k[m] for m in ("anderson", "none") if m in k}
     for m, v in methods.items():
         met = v["iterations"] is not None and v["core_ms"] <= 1500

@@ -374,7 +374,7 @@ def table(rows):
 
 
 def targets(rows, peaks=()):
-    """Issue 8's targets, each with what this run measured."""
+    """The speed targets (record 0013), each with what this run measured."""
     out = []
     anderson = {(q["size"], q["domain"], q["lambda"]): q["peak_mb"] for q in peaks
                 if q.get("method", "anderson") == "anderson"}
@@ -390,7 +390,7 @@ def targets(rows, peaks=()):
             ratio = q["peak_mb"] / base
             line += (f"; coarse space {q['coarse_dimension']:,} unknowns, Krylov basis "
                      f"{q['krylov_basis_mb']:.0f} MB; {ratio:.2f}× Anderson's")
-            if q["size"] == "140k":  # issue 20's target
+            if q["size"] == "140k":  # Newton-Krylov's memory bound at 140k
                 line += f" (≤ 1.5×: {'met' if ratio <= 1.5 else '**missed**'})"
         out.append(line + ".")
     for t in rows:

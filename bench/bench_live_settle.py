@@ -176,7 +176,7 @@ def markdown(result):
         "assembly. A true distance in bold is a settle claimed farther than the tolerance "
         f"({TOLERANCE:g}) from the reference.",
         "",
-        "Claims checked (the add-on's policy since issue 20): a tick whose targets stand still "
+        "Claims checked (the add-on's policy, record 0027): a tick whose targets stand still "
         "asks the core to check a convergence claim by 30 Arnoldi steps on J_G "
         "(`verify_claims`); 'checks' counts them (refused ones in brackets); 'longest tick' "
         "is the longest settle tick's solve time, the check included (the hitch an artist "
@@ -212,7 +212,8 @@ def markdown(result):
                             f"{'settled' if s['converged'] else 'not settled'} after "
                             f"{s['wall_ms'] / 1e3:.1f} s ({s['iterations']} iterations) — "
                             f"{'met' if met else '**not met**'}")
-    lines += ["", "Target (issue 7): the 50k live drag settles within 1 s after the mouse stops. "
+    lines += ["", "Target: the 50k live drag settles within 1 s after the mouse stops (why the koala settles "
+              "slowly: records 0016 and 0025). "
               + "; ".join(verdicts) + "."]
     return "\n".join(lines)
 

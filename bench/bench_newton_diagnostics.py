@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Diagnostics for the Newton-Krylov solver (issue 20, item 4), all measured with the
+"""Diagnostics for the Newton-Krylov solver (record 0020), all measured with the
 package's analytic derivative of the one-step map G (Deformer._jacobian).
 
 Per cell (mesh, edit, domain; the lambda = 1 solution is the reference):

@@ -6,8 +6,8 @@ the lowest 20 % is static, the top 10 % is the handle.
 - "lift": the handle raised by a quarter of the bounding-box diagonal;
 - "twist": the handle turned 90° about the height axis through its centroid;
 - "bend": the handle turned 30° about the next axis (x after z) through its centroid.
-(Until issue 22 bench_convergence.py had its own twist, 60° about the longest axis, and its
-bend about the axis after that one: docs/decisions/0009-one-definition-per-edit.md.)
+(bench_convergence.py once had its own twist, 60° about the longest axis, and its bend about
+the axis after that one: docs/decisions/0009-one-definition-per-edit.md.)
 """
 
 import lzma
@@ -51,8 +51,12 @@ def mesh_path(name, folder=None):
 
 
 def accelerations(ed):
-    """The acceleration methods this build's solve() accepts, in the order its error message
-    lists them (e.g. ["newton", "anderson", "none"]): asked of the module, not hard-coded."""
+    """The acceleration methods this build's solve() accepts, as the core lists them
+    (edgedeform.ACCELERATIONS, e.g. ["newton", "anderson", "none"]). A build older than
+    that export (same_positions.py compares against old builds) is asked through the error
+    message of solve(acceleration="?"), which names every method."""
+    if hasattr(ed, "ACCELERATIONS"):
+        return list(ed.ACCELERATIONS)
     V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
     F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
     d = ed.Deformer(V, F)
@@ -62,7 +66,7 @@ def accelerations(ed):
     except ValueError as e:
         names = re.findall(r'"([a-z_]+)"', str(e))
         if names:
-            return names
+            return [n for n in names if n != "?"]
         raise
     raise RuntimeError('solve(acceleration="?") was accepted: cannot list the methods')
 

@@ -300,7 +300,7 @@ update (above 1: ours faster):
 
 {ratio_table(result['ratios'], OTHER_RATIOS)}
 
-Issue 8 targets this benchmark measures:
+Speed targets this benchmark measures (record 0013):
 {_verdicts(result) or '- (no 50k / 140k rows in this run)'}
 {skipped}
 

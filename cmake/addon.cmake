@@ -1,4 +1,4 @@
-# Blender add-on packaging (issue 3), included by the root CMakeLists.txt.
+# Blender add-on packaging, included by the root CMakeLists.txt.
 #
 #   install_addon    copy the add-on and the built `edgedeform` package into Blender's user
 #                    add-on folder ($BLENDER_USER_SCRIPTS/addons when set, else the folder

@@ -1,7 +1,7 @@
 """Differences between the Blender versions the add-on runs on (3.4 to 5.3).
 
 Checked on Debian's 3.4.1 and 4.3.2 and on the `bpy` modules 4.5 LTS, 5.0, 5.1, 5.2 and 5.3
-(tests/blender; the README's "Blender versions"). The
+(tests/blender; docs/install.md, "Blender versions"). The
 known API breaks of 4.0-5.0 do not reach this add-on: it passes no context-override dicts
 to operators (4.0), never touches auto smooth (4.1), draws nothing with `bgl` (5.0) and
 reads its PropertyGroup settings as attributes, never with dict syntax (5.0).

@@ -5,7 +5,6 @@ shape, the output and the controllers' rest transforms). Mesh data is read only 
 mesh_arrays; settings and transforms are read as attributes.
 """
 
-import re
 from dataclasses import dataclass
 from typing import List
 
@@ -142,48 +141,31 @@ def controller_state(ob, inputs):
         for g in inputs.handle_groups)
 
 
-# Accelerations of the solve, fastest first: (property item, the package's name). "newton"
-# is offered only when the package has it (docs/api.md); the others always are.
+# Accelerations of the solve, fastest first: (property item, the package's name). The
+# add-on offers those of them that this build of the package has (its ACCELERATIONS).
 ACCELERATIONS = (('NEWTON', "newton"), ('ANDERSON', "anderson"), ('NONE', "none"))
-_offered = []
+# Drawn when the package cannot load (the first solve then reports why).
+_WITHOUT_PACKAGE = ["anderson", "none"]
 
 
 def offered_accelerations():
-    """The package's names of the accelerations this build of `edgedeform` solves with:
-    "anderson" and "none" always, "newton" when a one-triangle solve accepts it (asked
-    once; ValueError names an unknown method)."""
-    if not _offered:
-        names = ["anderson", "none"]
-        try:
-            ed = native.get()
-            known = getattr(ed, "ACCELERATIONS", None)
-            if known is not None:
-                names = [a for _, a in ACCELERATIONS if a in known]
-            else:
-                d = ed.Deformer(np.eye(3), np.array([[0, 1, 2]]), domain="edge")
-                d.set_constraints(handles=np.array([0]))
-                try:
-                    d.solve(np.zeros((1, 3)), max_iterations=1, acceleration="newton")
-                    names.insert(0, "newton")
-                except ValueError:
-                    pass
-        except ImportError:
-            return ["anderson", "none"]   # (asked again once the package loads)
-        _offered.extend(names)
-    return list(_offered)
+    """The package's names of the accelerations this build of `edgedeform` solves with
+    (edgedeform.ACCELERATIONS), in the add-on's order."""
+    try:
+        known = native.get().ACCELERATIONS
+    except ImportError:
+        return list(_WITHOUT_PACKAGE)
+    return [name for _, name in ACCELERATIONS if name in known]
 
 
 def default_acceleration():
-    """The package's own default acceleration (read from Deformer.solve's signature), so
-    that Solve with the add-on's defaults equals the Python API's solve; "anderson" when
-    the signature does not say."""
+    """The package's own default acceleration (edgedeform.SOLVE_DEFAULTS), so that Solve
+    with the add-on's defaults solves as the Python API's solve does."""
     offered = offered_accelerations()
     try:
-        doc = native.get().Deformer.solve.__doc__ or ""
+        name = native.get().SOLVE_DEFAULTS["acceleration"]
     except ImportError:
-        doc = ""
-    match = re.search(r"acceleration: str = '(\w+)'", doc)
-    name = match.group(1) if match else "anderson"
+        name = offered[0]
     return name if name in offered else offered[0]
 
 

@@ -1,4 +1,4 @@
-"""Settings stored on the object (`ob.edge_deform`): the scripting contract of issue 3."""
+"""Settings stored on the object (`ob.edge_deform`): the scripting contract (docs/addon.md, "Scripting contract")."""
 
 import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,

@@ -4,9 +4,7 @@
 #include <pybind11/stl.h>
 
 #include "edgedeform/deformer.h"
-#include "edgedeform/errors.h"
 #include "numpy_convert.h"
-#include "signal_check.h"
 #include "typed_args.h"
 
 namespace edgedeform::bindings {
@@ -30,6 +28,8 @@ py::array_t<int64_t> int_matrix(const RowMatrixX2i& M) {
 }
 
 }  // namespace
+
+void bind_solve(py::module_& m, py::class_<Deformer>& deformer);
 
 void bind_deformer(py::module_& m) {
   py::class_<NewtonOptions>(m, "NewtonOptions", "Settings of the Newton method (acceleration=\"newton\").")
@@ -103,8 +103,11 @@ projection, lifted: for the diagnostic that chose the method (bench/bench_newton
                " energy=" + (r.energies.empty() ? "-" : std::to_string(r.energies.back())) + ">";
       });
 
-  py::class_<Deformer>(m, "Deformer",
-                       "Shape-preserving deformation of one triangle mesh: set constraints and stiffness, then solve.")
+  py::class_<Deformer> deformer(m, "Deformer",
+                                "Shape-preserving deformation of one triangle mesh: set constraints and stiffness, "
+                                "then solve.");
+  bind_solve(m, deformer);  // bind_solve.cpp: solve() and its options, from one table
+  deformer
       .def(py::init([](const PointsArg& V, const FacesArg& F, const std::string& domain, bool clamp) {
              RowMatrixX3d v = to_points(V.obj, "V");
              RowMatrixX3i f = to_faces(F.obj, "F");
@@ -154,58 +157,6 @@ Raises ValueError when a vertex is both handle and static, IndexError when an in
 
 1 is rigid (the 1-form energy only), 0 is smooth (the Laplacian energy only). Edge nodes take
 the mean of their two vertices. Only a numeric refactorization follows; the analysis is kept.)doc")
-      .def(
-          "solve",
-          [](Deformer& d, const TargetsArg& targets_arg, int max_iterations, double tolerance, bool warm_start,
-             const OptionalPointsArg& initial_arg, const std::string& acceleration, int anderson_window,
-             bool verify_claims, const std::optional<NewtonOptions>& newton) {
-            const py::handle& targets = targets_arg.obj;
-            const py::handle& initial = initial_arg.obj;
-            SolveOptions o;
-            o.max_iterations = max_iterations;
-            o.tolerance = tolerance;
-            o.warm_start = warm_start;
-            o.acceleration = parse_acceleration(acceleration);
-            o.anderson_window = anderson_window;
-            o.verify_claims = verify_claims;
-            if (newton) o.newton = *newton;
-            if (!initial.is_none()) o.initial = to_points(initial, "initial");
-            RowMatrixX3d t = to_points(targets, "targets");
-            SignalCheck signals;
-            o.interrupt_requested = signals.callback();
-            try {
-              py::gil_scoped_release release;
-              return d.solve(t, o);
-            } catch (const SolveInterrupted&) {  // the GIL is back: raise KeyboardInterrupt
-              signals.raise_pending();
-            }
-          },
-          py::arg("targets"), py::arg("max_iterations") = SolveOptions{}.max_iterations,
-          py::arg("tolerance") = SolveOptions{}.tolerance, py::arg("warm_start") = true, py::arg("initial") = py::none(),
-          py::arg("acceleration") = acceleration_name(SolveOptions{}.acceleration),
-          py::arg("anderson_window") = SolveOptions{}.anderson_window,
-          py::arg("verify_claims") = SolveOptions{}.verify_claims, py::arg("newton") = py::none(),
-          R"doc(Deforms the mesh so that the handles reach their targets.
-
-targets: (h, 3) one target per handle, in the order given to set_constraints.
-max_iterations: most local/global iterations in this call.
-tolerance: stop when the estimated largest vertex distance to the fixed point is below
-    tolerance * the rest bounding-box diagonal; then result.converged is True.
-warm_start: start from the previous solve's shape; with unchanged targets this continues
-    the same iteration (Anderson history included), so repeated short calls settle on the
-    cold solve's shape.
-initial: (n, 3) positions to start from instead (a local step on them first), or None.
-acceleration: "anderson" (default: Anderson-accelerated local/global), "newton" (an Anderson
-    lead-in, then projected Newton steps, each a sparse factorization of the Newton matrix)
-    or "none" (the plain local/global method). Each ends at a fixed point of the same map;
-    where the energy has several near one another, methods can end at different ones.
-anderson_window: how many past iterates Anderson acceleration combines (1..50).
-verify_claims: plain/Anderson: before claiming convergence, estimate J_G's largest modulus
-    by 30 Arnoldi steps at the point (each a back-substitution) and claim only if the
-    distance bound with it holds too (a secant estimate can miss a slow mode).
-newton: NewtonOptions (the Newton method's settings), or None for the defaults.
-Returns a SolveResult. Ctrl-C raises KeyboardInterrupt between iterations and leaves the
-Deformer usable.)doc")
       .def(
           "energy",
           [](const Deformer& d, const PointsArg& X) {

@@ -37,7 +37,8 @@ V_rest, V_def: (n, 3) rest and deformed positions; F: (m, 3) triangles;
 handles: (h,) handle vertex indices and targets: (h, 3) their targets, or None.
 Returns a dict: handle_error (max distance of a handle to its target),
 mean_edge_strain and max_edge_strain (|l - l0| / l0 over mesh edges),
-mean_dihedral_change (radians, interior edges), arap_energy (classic primal ARAP energy,
+mean_dihedral_change (|theta - theta0| in radians, the mean over the face pairs at each
+edge: one pair inside a manifold surface, three at a fin's edge), arap_energy (classic primal ARAP energy,
 clamped cotangent spokes) and arap_energy_normalized (arap_energy divided by
 sum_ij w_ij |e0_ij|^2, so meshes of any size and scale compare).)doc");
 }

@@ -27,7 +27,8 @@ PYBIND11_MODULE(_core, m) {
     // the same positions on any number of threads.
     info["serial_blas_factor"] = edgedeform::SerialBlas::available();
     return info;
-  });
+  }, "How this module was built: version, sparse solver, OpenMP and its threads, Eigen, compiler, "
+     "and whether factorizations run their BLAS on one thread (serial_blas_factor).");
   edgedeform::bindings::bind_deformer(m);
   edgedeform::bindings::bind_metrics(m);
 }

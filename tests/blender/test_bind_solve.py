@@ -262,7 +262,7 @@ def test_bad_input_cancels():
     ob.edge_deform.handles.clear()
     assert not bpy.ops.edge_deform.solve.poll()
 
-    # Non-manifold (three triangles on one edge) deforms like any mesh (issue 10): the
+    # Non-manifold (three triangles on one edge) deforms like any mesh (docs/api.md): the
     # solve finishes and writes its shape key.
     V = np.array([[0, 0, 0], [1, 0, 0], [0.5, 1, 0], [0.5, -1, 0], [0.5, 0, 1]], float)
     bad = make_object("fin", V, [[0, 1, 2], [1, 0, 3], [0, 1, 4]])

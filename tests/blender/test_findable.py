@@ -1,4 +1,4 @@
-"""Background test of what makes the add-on findable and predictable (issue 12):
+"""Background test of what makes the add-on findable and predictable:
 menu entries where artists look, descriptions on every operator and property, Set Static
 taking vertices out of handles, the stiffness buttons following Weight Paint's masks like
 Set Weight, and the panel following a controller of a deformed mesh."""
@@ -53,7 +53,7 @@ def test_menus_hold_the_operators():
     for op in ("bind", "live", "solve", "apply", "bake"):
         assert "edge_deform." + op in sub.operators, (op, sub.operators)
     rec = draw_appended("VIEW3D_MT_edit_mesh_vertices")
-    # Grab Deform and Set Region too (issue 21: they were in no menu, so F3 missed them).
+    # Grab Deform and Set Region too (they were in no menu once, so F3 missed them).
     assert rec.operators == ["edge_deform.grab", "edge_deform.add_handle",
                              "edge_deform.set_static", "edge_deform.set_roi",
                              "edge_deform.assign_stiffness"], rec.operators
@@ -243,7 +243,7 @@ def test_info_links_the_manual():
     cls.draw(type("Prefs", (), {"layout": layout})(), bpy.context)
     [(idname, text, props)] = layout.operators
     assert idname == "wm.url_open" and text == "Manual", layout.operators
-    assert layout.props == ["stiffness_keys"], layout.props   # Live's λ keys (issue 21)
+    assert layout.props == ["stiffness_keys"], layout.props   # Live's λ keys
     assert os.path.samefile(doc_file(props.url), path)
     # ... and the legacy add-on's "Documentation" link (bl_info["doc_url"]) the same page.
     info = getattr(edge_deform, "bl_info", None)

@@ -1,7 +1,7 @@
 """Background test: every default the manual (docs/addon.md, "Scripting contract") states
 equals the add-on's. Reads the defaults from the table's "default X" cells (and from
 "(defaults A and B)" phrasing, so an old wording cannot hide a wrong figure) and compares
-each with the property's own default (issue 21 item 14, issue 22 item 5)."""
+each with the property's own default."""
 
 import os
 import re

@@ -1,6 +1,6 @@
 """Background test: every label of the Edge Deform sidebar reads in full at the default
-sidebar width (229 px) and dragged narrower (170 px), as docs/addon.md promises (issue 21
-item 11). The panels draw into a layout that keeps their rows and columns; each text is
+sidebar width (229 px) and dragged narrower (170 px), as docs/addon.md promises. The
+panels draw into a layout that keeps their rows and columns; each text is
 measured with the UI's font (blf, the widget size at this UI scale) against the room the
 layout gives it.
 

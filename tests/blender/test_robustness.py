@@ -1,4 +1,4 @@
-"""Background tests of issue 9: the add-on never loses an artist's work.
+"""Background tests of docs/robustness.md: the add-on never loses an artist's work.
 
 Shape keys and Apply, output names it must not use, edits it must not revert,
 controllers in the object's space, hidden objects, modifiers, linked duplicates, save and

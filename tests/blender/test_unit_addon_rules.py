@@ -1,4 +1,4 @@
-"""Unit tests (pytest, no Blender) of rules the add-on's source keeps (issue 22):
+"""Unit tests (pytest, no Blender) of rules the add-on's source keeps:
   - every mode switch goes through compat.mode_set (Blender 5.0.1's crash guard);
   - foreach_get/foreach_set appear only in mesh_arrays.py (one place moves bpy arrays);
   - messages reach the user only through op_common.tell (where the tests listen);

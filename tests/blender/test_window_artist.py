@@ -1,4 +1,4 @@
-"""Real-window test (Xvfb, --enable-event-simulate) of issue 21, the artist walk-through:
+"""Real-window test (Xvfb, --enable-event-simulate) of the artist walk-through:
 one section per finding, each asserting what the artist sees (the view header's pixels,
 who sets the status bar, the mode and the shape, the panel's redraw, the reports).
 

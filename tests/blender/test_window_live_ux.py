@@ -1,4 +1,4 @@
-"""Real-window test (Xvfb, --enable-event-simulate) of issue 12: Live Deform does not fight
+"""Real-window test (Xvfb, --enable-event-simulate): Live Deform does not fight
 the user, and long work shows progress.
   - Bind reports progress (Blender's progress indicator, wait cursor, status text);
   - during Live: a second Live is refused and the first goes on; the mouse wheel zooms the

@@ -1,4 +1,4 @@
-"""Real-window test (Xvfb, --enable-event-simulate) of issue 12's long work on a 50k-vertex
+"""Real-window test (Xvfb, --enable-event-simulate) of long work on a 50k-vertex
 mesh (a generated grid, 224 x 224 vertices):
   - Esc right after Bind starts cancels it: not bound, nothing recorded;
   - Bind from the UI shows its progress: the fraction rises from 0 to 1 over the stages, and

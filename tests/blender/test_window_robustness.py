@@ -1,4 +1,4 @@
-"""Real-window test of the modal tools' mishaps (Xvfb, --enable-event-simulate), issue 9:
+"""Real-window test of the modal tools' mishaps (Xvfb, --enable-event-simulate), docs/robustness.md:
   - undo (the menu's ed.undo) during Live Deform: the tool ends with a message, the scene
     is Blender's undo step, nothing is written afterwards; redo works;
   - the object deleted during Live: the tool ends, the mesh is restored bit-exact;

@@ -10,6 +10,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _record  # noqa: E402
 
 
+def pytest_configure(config):
+    # Wall-clock bounds: ctest runs them apart (pytest_timing, label `timing`), after the
+    # other tests and alone, so that a loaded machine does not fail the functional tiers.
+    config.addinivalue_line("markers", "timing: asserts a wall-clock bound (ctest label timing)")
+
+
 def pytest_terminal_summary(terminalreporter):
     if not _record.COUNTS:
         return

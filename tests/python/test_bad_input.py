@@ -54,7 +54,7 @@ def test_bad_domain_rejected():
      r"^the mesh is degenerate: every face has zero area"),
 ], ids=["one_point", "x_axis", "skew_line"])
 def test_degenerate_whole_mesh_named(make, words, domain):
-    """Not "CHOLMOD could not analyze the matrix (status -4)" (issue 10)."""
+    """Not "CHOLMOD could not analyze the matrix (status -4)"."""
     V, F = load(SPOT)
     with pytest.raises(ValueError, match=words):
         ed.Deformer(make(V), F, domain=domain)
@@ -154,7 +154,7 @@ def test_bad_solve_arguments_rejected_and_deformer_usable(spot, case, words):
     elif case == "initial_nan":
         X0 = V.copy(); X0[10, 0] = np.nan
         kw["initial"] = X0
-    elif case == "targets_1e308":  # finite, but its squared distances overflow (issue 10)
+    elif case == "targets_1e308":  # finite, but its squared distances overflow (docs/api.md)
         t = targets.copy(); t[2, 0] = 1e308
     elif case == "targets_1e200":
         t = targets * 1e200

@@ -217,7 +217,7 @@ def test_overflowing_target_rejected_nothing_written(tmp_path, spot_job, value):
 
 
 def test_quads_uvs_and_normals_survive(tmp_path):
-    """Issue 10: a quad mesh with vt/vn came back triangulated and bare. Now every line but
+    """A quad mesh with vt/vn once came back triangulated and bare. Now every line but
     v and vn is unchanged, and the report says the normals were recomputed."""
     n = 6
     i, j = np.meshgrid(np.arange(n), np.arange(n))
@@ -249,3 +249,43 @@ def test_help_and_usage():
     assert p.returncode == 0 and "deform" in p.stdout
     p = run("deform")
     assert p.returncode == 2 and "Traceback" not in p.stderr
+
+
+def test_version_names_the_package_and_its_core():
+    import edgedeform as ed
+    p = run("--version")
+    info = ed.build_info()
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.startswith(f"edgedeform {info['version']} ({info['solver']}, "), p.stdout
+
+
+def test_options_default_to_the_cores_solve_defaults():
+    """The parser reads edgedeform.SOLVE_DEFAULTS and ACCELERATIONS: nothing restated."""
+    import edgedeform as ed
+    from edgedeform import cli
+    args = cli._parser().parse_args(["deform", "m.obj", "--constraints", "c.json", "--out", "o.obj"])
+    defaults = ed.SOLVE_DEFAULTS
+    assert (args.iterations, args.tolerance, args.acceleration, args.anderson_window) == (
+        defaults["max_iterations"], defaults["tolerance"], defaults["acceleration"],
+        defaults["anderson_window"])
+    choices = {a.dest: a.choices for a in cli._parser().commands["deform"]._actions}
+    assert tuple(choices["acceleration"]) == ed.ACCELERATIONS
+    text = run("deform", "--help").stdout
+    assert f"(default {defaults['max_iterations']})" in text and "(default 0.001)" in text
+
+
+def test_without_stiffness_the_deformers_own_default_applies():
+    """--help says what a Deformer starts with; the command then sets no stiffness at all."""
+    import edgedeform as ed
+    V, F = load(PLANE)
+    assert np.all(ed.Deformer(V, F).node_stiffness() == 0.5)
+    assert "0.5 everywhere" in " ".join(run("deform", "--help").stdout.split())
+
+
+def test_report_has_exactly_the_documented_fields(tmp_path, spot_job):
+    """docs/api.md's report table is generated from cli.REPORT_FIELDS."""
+    from edgedeform import cli
+    *_, c = spot_job
+    p = run("deform", DATA / SPOT, "--constraints", c, "--out", tmp_path / "o.obj", "--iterations", "3")
+    assert p.returncode == 0, p.stderr
+    assert list(json.loads(p.stdout)) == list(cli.REPORT_FIELDS)

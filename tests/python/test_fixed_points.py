@@ -1,5 +1,5 @@
 """Shapes the energy cannot improve on: rest (zero displacement), rigid motions, and
-(for lambda = 0) uniform scale. docs/design.md §3, issue 2 "Tests"."""
+(for lambda = 0) uniform scale. docs/design.md §3."""
 
 import pytest
 

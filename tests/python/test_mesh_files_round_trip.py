@@ -1,4 +1,4 @@
-"""Only positions change (issue 10): faces (quads, n-gons), texture coordinates, colours,
+"""Only positions change (docs/api.md, "Command line"): faces (quads, n-gons), texture coordinates, colours,
 groups, materials, comments and the storage format survive a write with new positions;
 normals are recomputed from the deformed faces. OBJ, OFF, PLY ASCII and binary."""
 

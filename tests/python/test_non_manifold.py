@@ -1,4 +1,4 @@
-"""Non-manifold meshes deform (issue 10): a fin standing on a sheet, and three sheets
+"""Non-manifold meshes deform (docs/api.md): a fin standing on a sheet, and three sheets
 meeting at a T-junction, where edges are shared by three faces."""
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""Unwelded seams (issue 10): coincident vertices in pieces that move apart are named in a
+"""Unwelded seams (docs/api.md): coincident vertices in pieces that move apart are named in a
 warning; weld=True deforms the copies together and writes every copy back."""
 
 import json

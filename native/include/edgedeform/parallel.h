@@ -3,7 +3,7 @@
 // Not OpenMP: Blender links libgomp and starts it before any add-on runs, so its wait policy
 // (spin ~300k iterations at every barrier) cannot be changed from here; with another process
 // on one of two cores, those spinning threads made a 1k-vertex local step 19x slower than
-// one thread (issue 8). This pool's workers sleep on a condition variable, and the calling
+// one thread (record 0011). This pool's workers sleep on a condition variable, and the calling
 // thread never waits for a worker that has not started: chunks nobody claimed are run by
 // the caller itself, so a descheduled worker costs at most the chunk it holds.
 #pragma once

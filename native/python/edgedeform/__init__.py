@@ -4,15 +4,25 @@ A local/global solver that blends a rigid 1-form energy (weight lambda) with a r
 scale-aware Laplacian energy (weight 1 - lambda), with lambda per vertex. See docs/api.md.
 """
 
+import types
+
 import numpy as np
 
+from . import _core
 from ._core import FactorizationError, NewtonOptions, SolveResult, build_info
 from ._core import Deformer as _NativeDeformer
 from ._core import metrics
 from .welding import Welding
 
-__all__ = ["Deformer", "NewtonOptions", "SolveResult", "FactorizationError", "Welding", "build_info", "metrics"]
+__all__ = ["Deformer", "NewtonOptions", "SolveResult", "FactorizationError", "Welding", "build_info",
+           "metrics", "ACCELERATIONS", "SOLVE_DEFAULTS"]
 __version__ = build_info()["version"]
+
+# What Deformer.solve takes, as the core defines it (SolveOptions and the table of
+# native/bindings/bind_solve.cpp): the method names, and every keyword argument's default.
+# The command line, the add-on and the docs read these instead of restating them.
+ACCELERATIONS = tuple(_core.ACCELERATIONS)
+SOLVE_DEFAULTS = types.MappingProxyType(dict(_core.SOLVE_DEFAULTS))
 
 
 def _sparse(coo):
@@ -65,6 +75,7 @@ class Deformer(_NativeDeformer):
 
     @property
     def n_vertices(self):
+        """vertices of the mesh as given (with weld=True: before welding)"""
         return super().n_vertices if self._welding is None else self._welding.n_original
 
     @property
@@ -124,7 +135,8 @@ class Deformer(_NativeDeformer):
     energy.__doc__ = _NativeDeformer.energy.__doc__
 
     def laplacian(self):
-        """Graph Laplacian (n_nodes x n_nodes): SciPy CSR, or (rows, cols, vals) without SciPy."""
+        """Graph Laplacian (n_nodes x n_nodes; L_ii = sum_j w_ij, L_ij = -w_ij): SciPy CSR, or
+        (rows, cols, vals) without SciPy."""
         return _sparse(self._laplacian_coo())
 
     def node_matrix(self):

@@ -1,8 +1,8 @@
 """Command line for batch deformation outside Blender.
 
-    python3 -m edgedeform deform MESH --constraints C.json --out OUT.obj
-        [--domain edge|primal] [--stiffness 0.5 | --stiffness-file lam.txt]
-        [--iterations N] [--tolerance T] [--acceleration newton|anderson|none] [--weld]
+    python3 -m edgedeform deform MESH --constraints C.json --out OUT.obj [options]
+
+(`python3 -m edgedeform deform --help` lists the options with the core's defaults.)
 
 C.json: {"handles": [...], "static": [...], "roi": null or [...],
          "handle_targets": [[x, y, z], ...]}   (targets in the order of handles)
@@ -23,21 +23,35 @@ import time
 
 import numpy as np
 
-from . import mesh_files
+from . import ACCELERATIONS, SOLVE_DEFAULTS, Deformer, build_info, mesh_files
 
 EXIT_BAD_INPUT = 1
+
+# The one-line JSON report, key by key in the order it is printed, with what each means
+# (docs/api.md's table is generated from this; a test checks that the report has these keys).
+REPORT_FIELDS = {
+    "vertices": "mesh vertices",
+    "nodes": "graph nodes: the mesh's edges in the edge domain, its vertices in the primal one",
+    "domain": '"edge" or "primal"',
+    "factor_ms": "assembly + factorization, ms",
+    "iterations": "iterations taken",
+    "ms_per_iteration": "their mean time (local step, right-hand side, back-substitution), ms",
+    "energies": "per iteration, as `SolveResult.energies`",
+    "residuals": "per iteration, as `SolveResult.residuals`",
+    "converged": "as `SolveResult.converged`",
+    "distance_estimate": "as `SolveResult.distance_estimate`; null when unknown",
+    "acceleration": "the method solved with, one of `edgedeform.ACCELERATIONS`",
+    "free_vertices": "vertices the solve could move",
+    "wall_ms": "wall time of the solve: factorization and iterations, not reading or writing, ms",
+    "warnings": "as `SolveResult.warnings` (not converged, vertices kept at rest, unwelded seams, ...)",
+    "notes": "what the output file could not carry unchanged: recomputed normals, data another "
+             "format has no place for",
+    "welded_copies": "vertices `--weld` merged (0 without it)",
+}
 
 
 class InputError(ValueError):
     """Bad command-line input; the message is shown to the user as is."""
-
-
-def _default_acceleration():
-    """The solver's own default, read from the binding's signature."""
-    import re
-    from . import _core
-    match = re.search(r'acceleration: str = [\'"]([a-z]+)', _core.Deformer.solve.__doc__ or "")
-    return match.group(1) if match else "anderson"
 
 
 def _program_name():
@@ -45,11 +59,23 @@ def _program_name():
     return "edgedeform" if name == "edgedeform" else "python3 -m edgedeform"
 
 
-def _parser():
+def _version():
+    info = build_info()
+    openmp = f"OpenMP {info['threads']} threads" if info["openmp"] else "no OpenMP"
+    return (f"edgedeform {info['version']} ({info['solver']}, {openmp}, Python "
+            f"{sys.version.split()[0]})")
+
+
+def _parser(prog=None):
+    """The parser; `.commands` holds each subcommand's own parser (docs/api.md's tables are
+    made from them). The solve options' defaults and choices are the core's (SOLVE_DEFAULTS)."""
+    solve = SOLVE_DEFAULTS
     p = argparse.ArgumentParser(
         # "edgedeform" when run as the console script, "python3 -m edgedeform" otherwise.
-        prog=_program_name(),
+        prog=prog or _program_name(),
         description="Edge-based graph mesh deformation (batch).")
+    p.add_argument("--version", action="version", version=_version(),
+                   help="the package's version and how its core was built, then exit")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     d = sub.add_parser("deform", help="deform a mesh with handle/static constraints")
@@ -57,25 +83,28 @@ def _parser():
     d.add_argument("--constraints", required=True, metavar="C.json",
                    help='{"handles", "static", "roi", "handle_targets"}')
     d.add_argument("--out", required=True, metavar="OUT", help="output mesh (.obj, .off, .ply)")
-    d.add_argument("--domain", choices=("edge", "primal"), default="edge")
+    d.add_argument("--domain", choices=("edge", "primal"), default="edge",
+                   help="graph nodes at the edges' midpoints (the paper's method) or at the vertices "
+                        "(default %(default)s)")
     lam = d.add_mutually_exclusive_group()
     lam.add_argument("--stiffness", type=float, default=None, metavar="LAMBDA",
-                     help="global stiffness in [0,1] (default 0.5)")
+                     help="global stiffness in [0,1] (default: the Deformer's, 0.5 everywhere)")
     lam.add_argument("--stiffness-file", default=None, metavar="FILE",
                      help="one stiffness value per vertex, whitespace separated")
-    d.add_argument("--iterations", type=int, default=2000, metavar="N",
-                   help="maximum local/global iterations (default 2000)")
-    d.add_argument("--tolerance", type=float, default=1e-3, metavar="T",
+    d.add_argument("--iterations", type=int, default=solve["max_iterations"], metavar="N",
+                   help="most local/global iterations (default %(default)s)")
+    d.add_argument("--tolerance", type=float, default=solve["tolerance"], metavar="T",
                    help="stop when the estimated largest vertex distance to the fixed point is "
-                        "below T times the bounding-box diagonal (default 1e-3)")
-    d.add_argument("--acceleration", choices=("newton", "anderson", "none"), default=_default_acceleration(),
-                   help="how the fixed point is reached: Newton-Krylov steps, Anderson acceleration or the "
-                        "plain local/global method (default: the library's, %(default)s); all reach the same shapes")
-    d.add_argument("--anderson-window", type=int, default=5, metavar="M",
-                   help="Anderson history length (default 5)")
+                        "below T times the bounding-box diagonal (default %(default)g)")
+    d.add_argument("--acceleration", choices=ACCELERATIONS, default=solve["acceleration"],
+                   help="how the fixed point is reached (default %(default)s); every method reaches "
+                        "the same shapes (help(edgedeform.Deformer.solve) says how each does)")
+    d.add_argument("--anderson-window", type=int, default=solve["anderson_window"], metavar="M",
+                   help="how many past iterates Anderson acceleration combines (default %(default)s)")
     d.add_argument("--weld", action="store_true",
                    help="solve with vertices that share a position welded (unwelded seams); "
                         "every copy gets the welded position")
+    p.commands = {"deform": d}
     return p
 
 
@@ -146,8 +175,10 @@ def load_stiffness(args, n):
             raise InputError(f"stiffness file: {args.stiffness_file}: {exc}") from None
         if lam.shape != (n,):
             raise InputError(f"stiffness file: {lam.size} values for {n} vertices")
+    elif args.stiffness is None:
+        return None  # the Deformer's own default
     else:
-        lam = 0.5 if args.stiffness is None else float(args.stiffness)
+        lam = float(args.stiffness)
     arr = np.atleast_1d(lam)
     if not np.all(np.isfinite(arr)) or arr.min() < 0.0 or arr.max() > 1.0:
         raise InputError("stiffness must lie in [0, 1] (and be finite)")
@@ -155,8 +186,6 @@ def load_stiffness(args, n):
 
 
 def deform(args):
-    import edgedeform as ed  # the compiled core; imported late so --help stays fast
-
     if args.iterations < 1:
         raise InputError("--iterations must be at least 1")
     if not math.isfinite(args.tolerance) or args.tolerance < 0:
@@ -167,9 +196,10 @@ def deform(args):
     handles, static, roi, targets = load_constraints(args.constraints, len(V))
     lam = load_stiffness(args, len(V))
 
-    d = ed.Deformer(V, F, domain=args.domain, weld=args.weld)
+    d = Deformer(V, F, domain=args.domain, weld=args.weld)
     d.set_constraints(handles=handles, static=static, roi=roi)
-    d.set_stiffness(lam)
+    if lam is not None:
+        d.set_stiffness(lam)
     t0 = time.perf_counter()
     r = d.solve(targets, max_iterations=args.iterations, tolerance=args.tolerance,
                 acceleration=args.acceleration, anderson_window=args.anderson_window)
