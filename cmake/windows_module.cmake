@@ -16,12 +16,6 @@ endif()
 if(NOT CMAKE_DLLTOOL)
   find_program(CMAKE_DLLTOOL NAMES x86_64-w64-mingw32-dlltool dlltool REQUIRED)
 endif()
-set(_ed_bindings
-  ${CMAKE_CURRENT_SOURCE_DIR}/bindings/module.cpp
-  ${CMAKE_CURRENT_SOURCE_DIR}/bindings/numpy_convert.cpp
-  ${CMAKE_CURRENT_SOURCE_DIR}/bindings/bind_deformer.cpp
-  ${CMAKE_CURRENT_SOURCE_DIR}/bindings/bind_metrics.cpp
-  ${CMAKE_CURRENT_SOURCE_DIR}/bindings/signal_check.cpp)
 
 foreach(pair ${EDGEDEFORM_WINDOWS_PYTHON})
   if(NOT pair MATCHES "^cp([0-9])([0-9]+)=(.+)$")
@@ -47,7 +41,7 @@ foreach(pair ${EDGEDEFORM_WINDOWS_PYTHON})
   file(COPY ${host_include}/ DESTINATION ${include} PATTERN pyconfig.h EXCLUDE)
   configure_file(${PROJECT_SOURCE_DIR}/cmake/windows/pyconfig.h ${include}/pyconfig.h COPYONLY)
 
-  add_library(_core_objects_${tag} OBJECT ${_ed_bindings})
+  add_library(_core_objects_${tag} OBJECT ${EDGEDEFORM_BINDING_SOURCES})
   target_include_directories(_core_objects_${tag} SYSTEM PRIVATE ${include} ${EDGEDEFORM_PYBIND11_INCLUDE})
   target_link_libraries(_core_objects_${tag} PRIVATE edgedeform_core)   # its headers
   target_compile_options(_core_objects_${tag} PRIVATE -fvisibility=hidden)
