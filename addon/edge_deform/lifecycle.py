@@ -32,7 +32,7 @@ import time
 import bpy
 import numpy as np
 
-from . import engine, mesh_arrays, native, session, settle
+from . import engine, mesh_arrays, native, session, settle, solve_method
 
 REST_ATTRIBUTE = ".edge_deform_rest"
 STATE_FIELDS = ("output", "output_key", "made_key_datablock", "topology", "written", "base",
@@ -182,7 +182,7 @@ class ObjectSolver:
         unchanged targets that continues the same accelerated iteration, so a drag that
         stops settles on the cold solve's shape). check_claims: see Binding.solve."""
         return self.binding.solve(targets, iterations, tolerance,
-                                  engine.acceleration(self.ob.edge_deform), warm, initial,
+                                  solve_method.requested(self.ob.edge_deform), warm, initial,
                                   check_claims)
 
     def settings_changed(self):
