@@ -115,7 +115,10 @@ class EdgeDeformMeshState(bpy.types.PropertyGroup):
     written: StringProperty(name="Written", description="Hash of the output last written")
     base: StringProperty(name="Base", description="Hash of the base mesh at the last write")
     baked_keys: StringProperty(name="Baked Keys", description="Keys made by Bake, one a line")
-
+    unheld: IntProperty(
+        name="Unheld Edit", min=0,
+        description="Vertices the last Grab Deform placed that no handle holds (0 after "
+                    "any solve)")
 
 
 CLASSES = (EdgeDeformHandle, EdgeDeformSettings, EdgeDeformMeshState)

@@ -77,6 +77,12 @@ class Binding:
         return self._constraints
 
     @property
+    def starts_cold(self):
+        """The next solve starts from scratch (a new graph or new constraints) unless it is
+        given a shape to start from (`initial`)."""
+        return self._cold_start_due
+
+    @property
     def bind_ms(self):
         """The compute time spent building and factoring this graph (not the wait around
         it, which is what Bind reports)."""
