@@ -24,29 +24,15 @@ Screenshots: $EDGEDEFORM_TEST_OUT/shown_*.png.
 import os
 import sys
 import time
-import traceback
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bmesh  # noqa: E402
 from helpers import Told, bpy, key_positions, np, positions, select_only, visible  # noqa: E402
 from mathutils import Vector  # noqa: E402
-from window_harness import (center, event, g_drag, main, override, screenshot,  # noqa: E402
-                            setup, tap, until)
+from window_harness import (center, ctrl, event, g_drag, keyed_lift, main,  # noqa: E402
+                            plane, run_sections, running, screenshot, setup, tap, until)
 from window_ui import (ICONS, LEFT, changed_columns, f3, focus_window, open_tab,  # noqa: E402
                        press_button, status_bar, ui_text_width, window_pixels)
-
-
-def plane():
-    return bpy.data.objects["plane"]
-
-
-def ctrl():
-    return bpy.data.objects["H_ctrl"]
-
-
-def running():
-    from edge_deform import op_common
-    return op_common.running_tool()
 
 
 def diagonal(ob):
@@ -179,11 +165,7 @@ def s2_grab_after_bake_starts_from_the_frame_shown():
     ob, c = plane(), ctrl()
     handle = HANDLE[0]
     activate(ob)
-    z0 = c.location.z
-    c.keyframe_insert("location", frame=1)
-    c.location.z = z0 + 0.4
-    c.keyframe_insert("location", frame=10)
-    scene.frame_start, scene.frame_end = 1, 10
+    z0 = keyed_lift(c, 0.4, 10)
     scene.frame_set(10)
     ob.edge_deform.iterations = 200
     with Told() as told:
@@ -491,37 +473,18 @@ HANDLE = [None]
 def steps():
     tap('ESC')   # dismiss the splash screen
     yield
-    only = os.environ.get("EDGEDEFORM_SECTIONS", "").split(",")
-    failed, tab_open = [], False
-    for section in SECTIONS:
-        if only != [""] and section.__name__.split("_")[0] not in only:
-            continue
+    only = os.environ.get("EDGEDEFORM_SECTIONS", "").split(",")   # (to run a few by hand)
+    chosen = [s for s in SECTIONS if only == [""] or s.__name__.split("_")[0] in only]
+    tab = []
+
+    def fresh_scene(_section):
         HANDLE[0], _ = setup()
-        if not tab_open:
+        if not tab:
             yield from open_tab()
-            tab_open = True
+            tab.append(True)
         bpy.context.scene.frame_set(1)
-        with override():
-            bpy.ops.ed.undo_push(message=section.__name__)
-        try:
-            yield from section()
-            print("PASS", section.__name__)
-        except Exception:  # noqa: BLE001 - reported; the next section runs
-            traceback.print_exc()
-            print("FAIL", section.__name__)
-            failed.append(section.__name__)
-        for _ in range(3):    # end whatever the section left running
-            if running() is None:
-                break
-            tap('ESC', at=center(0, -150))
-            yield from until(lambda: running() is None, 5)
-        ob = bpy.context.active_object
-        if ob is not None and ob.mode != 'OBJECT':
-            with override():
-                bpy.ops.object.mode_set(mode='OBJECT')
         yield
-    print("sections failed: %s" % (", ".join(failed) or "none"))
-    assert not failed, failed
+    yield from run_sections(chosen, fresh_scene)
 
 
 main(steps, limit_s=900)
