@@ -10,7 +10,7 @@ from typing import List
 
 import numpy as np
 
-from . import mesh_arrays, native
+from . import handle_holds, mesh_arrays, native
 
 
 class EdgeDeformError(Exception):
@@ -23,6 +23,7 @@ class HandleInput:
     indices: np.ndarray
     controller: object         # bpy.types.Object, or None
     rest_inverse: object       # mathutils.Matrix: inverse of the controller's rest
+    offset: object = None      # (k, 3) float64: where it holds them, from the rest; or None
 
 
 @dataclass
@@ -57,6 +58,7 @@ def gather_inputs(ob, require_handles=True):
             raise EdgeDeformError("Vertex group '%s' does not exist (deleted or renamed?): "
                                   "pick a group in the Edge Deform panel" % name)
     weights = mesh_arrays.read_group_weights(ob, names)
+    holds = handle_holds.offsets(ob.data)
 
     groups, seen = [], np.zeros(len(ob.data.vertices), np.int32)
     for h in s.handles:
@@ -65,7 +67,8 @@ def gather_inputs(ob, require_handles=True):
             raise EdgeDeformError("Handle group '%s' is empty" % h.vertex_group)
         seen[idx] += 1
         groups.append(HandleInput(h.vertex_group, idx, h.controller,
-                                  h.rest_matrix.inverted_safe()))
+                                  h.rest_matrix.inverted_safe(),
+                                  None if holds is None else holds[idx]))
     if np.any(seen > 1):
         v = int(np.flatnonzero(seen > 1)[0])
         raise EdgeDeformError("Vertex %d belongs to two handle groups; a vertex can follow "
@@ -118,14 +121,16 @@ def handle_targets(ob, X, inputs):
 
     Controllers are read in the deformed object's space: a handle moves by the change of
     its controller's transform relative to the object since the rest (like a Hook), so
-    moving the object together with controllers parented to it deforms nothing.
+    moving the object together with controllers parented to it deforms nothing. What it
+    moves is where the handle holds its vertices: the rest, plus their offsets
+    (handle_holds.py).
     4x4 products in mathutils and the per-vertex product with einsum: no BLAS/LAPACK
     call here, whose thread pool would fight the solver's OpenMP threads every update.
     """
     obmw_inv = ob.matrix_world.inverted_safe()
     out = []
     for g in inputs.handle_groups:
-        P = X[g.indices]
+        P = X[g.indices] if g.offset is None else X[g.indices] + g.offset
         if g.controller is not None:
             A = np.array(obmw_inv @ g.controller.matrix_world @ g.rest_inverse)
             P = np.einsum("ij,kj->ik", P, A[:3, :3]) + A[:3, 3]
@@ -183,9 +188,10 @@ def solve_report(result, waited_s, iterations):
     it is replaced by figures in the details."""
     warnings = [w for w in result.warnings if not w.startswith("not converged")]
     details = [('WARNING', w) for w in warnings]
-    details.append(('INFO', "Solve details: %d iterations, estimated distance to the "
-                            "settled shape %.2g of the object's size"
-                    % (iterations, float(result.distance_estimate))))
+    estimate = float(result.distance_estimate)   # inf until the solver can estimate it
+    how_far = ("estimated distance to the settled shape %.2g of the object's size" % estimate
+               if np.isfinite(estimate) else "distance to the settled shape not yet known")
+    details.append(('INFO', "Solve details: %d iterations, %s" % (iterations, how_far)))
     if result.converged:
         summary = "Solved: the shape settled (%d iterations, %.1f s)" % (iterations, waited_s)
     else:

@@ -32,11 +32,11 @@ import time
 import bpy
 import numpy as np
 
-from . import engine, mesh_arrays, native, session, settle
+from . import engine, handle_holds, mesh_arrays, native, session, settle, solve_method
 
 REST_ATTRIBUTE = ".edge_deform_rest"
 STATE_FIELDS = ("output", "output_key", "made_key_datablock", "topology", "written", "base",
-                "baked_keys")
+                "baked_keys", "unheld")
 Refused = engine.EdgeDeformError
 
 
@@ -109,7 +109,7 @@ def _check_output(ob, digest):
         check_key_name(ob, s.shape_key_name, allowed=(kb.name,) if kb is not None else ())
 
 
-def _rest(mesh):
+def rest_shape(mesh):
     """The rest shape, float64 (n,3): kept beside the base while it holds the output."""
     if _state(mesh).output == 'MESH':
         X = mesh_arrays.read_vector_attribute(mesh, REST_ATTRIBUTE)
@@ -182,7 +182,7 @@ class ObjectSolver:
         unchanged targets that continues the same accelerated iteration, so a drag that
         stops settles on the cold solve's shape). check_claims: see Binding.solve."""
         return self.binding.solve(targets, iterations, tolerance,
-                                  engine.acceleration(self.ob.edge_deform), warm, initial,
+                                  solve_method.requested(self.ob.edge_deform), warm, initial,
                                   check_claims)
 
     def settings_changed(self):
@@ -220,7 +220,7 @@ def prepare_steps(ob, inputs=None, require_handles=True, what=None,
     digest = mesh_arrays.topology_digest(mesh)
     _check_output(ob, digest)
     # (The owner: a linked duplicate has settings of its own.)
-    binding = yield from _binding_steps(mesh, inputs, _rest(mesh), digest,
+    binding = yield from _binding_steps(mesh, inputs, rest_shape(mesh), digest,
                                         what or "'%s'" % ob.name, fractions, ob.name_full)
     return ObjectSolver(ob, inputs, binding, _hash(mesh_arrays.read_positions32(mesh)))
 
@@ -273,14 +273,6 @@ def deform(ob, warm=False, reuse_inputs=False, iterations=None):
     return solver, r
 
 
-def shown_positions(ob):
-    """The add-on's output as it stands (its key, or the base mesh), float64 (n,3)."""
-    kb = owned_key(ob.data)
-    if ob.edge_deform.output == 'SHAPE_KEY' and kb is not None:
-        return mesh_arrays.read_key(kb).astype(np.float64)
-    return mesh_arrays.read_positions(ob.data)
-
-
 # ------------------------------------------------------------------ writing the output
 
 def _set(st, **values):
@@ -317,7 +309,7 @@ def _write(ob, binding, X, base_hash):
             mesh_arrays.write_vector_attribute(mesh, REST_ATTRIBUTE, binding.X)
         _move_base(mesh, co)
         _set(st, output='MESH', output_key="", written=_hash(co))
-    _set(st, topology=binding.digest)
+    _set(st, topology=binding.digest, unheld=0)   # (a solve placed every vertex)
     mesh.update()
 
 
@@ -386,6 +378,7 @@ def write_baked(ob, frames, results, step):
     live = owned_key(mesh)
     if live is not None:
         live.value = 0.0   # the baked keys replace the live result
+    st.unheld = 0
     mesh.update()
     return names
 
@@ -419,7 +412,8 @@ def bind_steps(ob):
     if st.output == 'MESH':   # the base holds the shape the user accepts as the new rest
         mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
         st.output, st.written = 'NONE', ""
-    st.topology = digest
+    st.topology, st.unheld = digest, 0
+    handle_holds.clear(mesh)   # the handles hold the new rest
     record_rest_transforms(ob)
     return binding
 
@@ -443,7 +437,8 @@ def apply(ob):
     if st.output == 'SHAPE_KEY':
         _apply_key(ob, owned_key(mesh))
     mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
-    st.output, st.output_key, st.written, st.base = 'NONE', "", "", ""
+    handle_holds.clear(mesh)   # the shape shown, held where it is, is the new rest
+    st.output, st.output_key, st.written, st.base, st.unheld = 'NONE', "", "", "", 0
     record_rest_transforms(ob)
     session.drop(mesh.as_pointer())
     mesh.update()
@@ -492,9 +487,10 @@ def unbind(ob):
     was = is_bound(mesh)
     session.drop(mesh.as_pointer())
     mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
+    handle_holds.clear(mesh)
     if st.output == 'MESH':
         st.output, st.written = 'NONE', ""
-    st.topology = ""
+    st.topology, st.unheld = "", 0
     return was
 
 
@@ -503,6 +499,12 @@ def forget_cache(mesh):
     binding = session.get(mesh.as_pointer())
     if binding is not None:
         binding.start_cold()
+
+
+def note_unheld_edit(mesh, count):
+    """Grab Deform placed `count` vertices that no handle holds: a solve from the handles
+    will move them (Live says so before it does)."""
+    _state(mesh).unheld = int(count)
 
 
 def record_rest_transforms(ob):

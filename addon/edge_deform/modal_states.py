@@ -20,6 +20,8 @@ def _next(table, tool, state, event):
 
 
 class Live(enum.Enum):
+    HOLDING = "holding"        # started on a Grab edit no handle holds: nothing is solved
+                               # (nothing moves) until a controller or a setting changes
     SOLVING = "solving"        # the targets or settings changed, not settled yet: iterate
     AT_REST = "at rest"        # settled, or gave up settling: watch for changes only
     PAUSED = "paused"          # the object is in another mode (Blender's tools own it)
@@ -40,6 +42,8 @@ class LiveEvent(enum.Enum):
 
 
 _LIVE = {
+    Live.HOLDING: {LiveEvent.CHANGED: Live.SOLVING, LiveEvent.MODE_LEFT: Live.PAUSED,
+                   LiveEvent.FAILED: Live.REFUSED, LiveEvent.SWITCH: Live.SWITCHING},
     Live.SOLVING: {LiveEvent.CHANGED: Live.SOLVING, LiveEvent.ITERATED: Live.SOLVING,
                    LiveEvent.SETTLED: Live.AT_REST, LiveEvent.MODE_LEFT: Live.PAUSED,
                    LiveEvent.FAILED: Live.REFUSED, LiveEvent.SWITCH: Live.SWITCHING},

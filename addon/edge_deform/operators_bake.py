@@ -6,7 +6,7 @@ import bpy
 from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, IntProperty
 
-from . import engine, lifecycle
+from . import engine, lifecycle, tool_guard
 from .op_common import (StepsJob, deformed_object, error_text, guarded, poll_mesh, run_steps,
                         tell)
 
@@ -32,7 +32,7 @@ def on_frame_change(scene, depsgraph=None):
     for ob in scene.objects:
         s = getattr(ob, "edge_deform", None)
         if ob.type != 'MESH' or s is None or not s.animate or not s.handles \
-                or ob.mode != 'OBJECT':
+                or ob.mode != 'OBJECT' or tool_guard.busy(ob):
             continue
         try:
             solver, _ = lifecycle.deform(ob, warm=True, reuse_inputs=playing)
@@ -76,6 +76,7 @@ class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
     def begin(self, context):
         """Check and bind; nothing is written before every frame is solved."""
         self.ob, self.scene = deformed_object(context), context.scene
+        tool_guard.refuse_while_a_tool_runs(self.ob, "Bake")
         self.todo = self.frames(self.scene)
         self.frame0 = self.scene.frame_current
         self.results = []

@@ -6,7 +6,7 @@ import time
 import bpy
 from bpy.props import BoolProperty
 
-from . import engine, lifecycle
+from . import engine, lifecycle, tool_guard
 from .op_common import (StepsJob, busy, deformed_object, guarded, poll_mesh, redraw_views,
                         report_lines, run_steps, tell)
 
@@ -28,6 +28,7 @@ class EDGE_DEFORM_OT_bind(StepsJob, bpy.types.Operator):
     @guarded
     def execute(self, context):
         ob = deformed_object(context)
+        tool_guard.refuse_while_a_tool_runs(ob, "Bind")
         self.t0 = time.perf_counter()
         return self.job_done(context, run_steps(context, self.text(ob), lifecycle.bind_steps(ob)))
 
@@ -36,6 +37,7 @@ class EDGE_DEFORM_OT_bind(StepsJob, bpy.types.Operator):
         """From the UI: one stage per timer tick, so the status bar says what happens
         (reading, building the graph, factoring) and Esc cancels between stages."""
         ob = deformed_object(context)
+        tool_guard.refuse_while_a_tool_runs(ob, "Bind")
         self.object_name, self.t0 = ob.name, time.perf_counter()
         return self.start_job(context, self.text(ob), lifecycle.bind_steps(ob))
 
@@ -72,6 +74,7 @@ class EDGE_DEFORM_OT_solve(StepsJob, bpy.types.Operator):
     @guarded
     def execute(self, context):
         ob = deformed_object(context)
+        tool_guard.refuse_while_a_tool_runs(ob, "Solve")
         self.t0 = time.perf_counter()
         with busy(context, "Deforming '%s'…" % ob.name):
             bound, r = lifecycle.deform(ob, warm=self.warm_start)
@@ -84,6 +87,7 @@ class EDGE_DEFORM_OT_solve(StepsJob, bpy.types.Operator):
         if self.warm_start:
             return self.execute(context)
         ob = deformed_object(context)
+        tool_guard.refuse_while_a_tool_runs(ob, "Solve")
         self.object_name, self.t0 = ob.name, time.perf_counter()
         return self.start_job(context, "Deforming '%s'…" % ob.name,
                               lifecycle.deform_steps(ob))
@@ -114,7 +118,9 @@ class EDGE_DEFORM_OT_apply(bpy.types.Operator):
 
     @guarded
     def execute(self, context):
-        lifecycle.apply(deformed_object(context))
+        ob = deformed_object(context)
+        tool_guard.refuse_while_a_tool_runs(ob, "Apply")
+        lifecycle.apply(ob)
         tell(self, 'INFO', "Applied to the base mesh; it is the new rest shape")
         redraw_views(context)
         return {'FINISHED'}
@@ -133,6 +139,7 @@ class EDGE_DEFORM_OT_unbind(bpy.types.Operator):
 
     @guarded
     def execute(self, context):
+        tool_guard.refuse_while_a_tool_runs(context.active_object, "Unbind")
         was = lifecycle.unbind(context.active_object)
         tell(self, 'INFO', "Unbound" if was else "Was not bound")
         redraw_views(context)

@@ -6,8 +6,11 @@ enters the viewport: nothing moves before), X/Y/Z constrain the motion to a glob
 (press again to free it), Enter/click confirms, Esc/right click restores. The mesh is shown
 in Object Mode while dragging (bpy can only write whole arrays there) and Edit Mode comes
 back at the end, showing the dragged shape: with Output Shape Key the output key becomes
-the active key, the one Edit Mode shows and edits. Other handle groups stay where they are
-shown; static vertices and vertices outside the region stay at rest.
+the active key, the one Edit Mode shows and edits. The drag starts from the shape shown
+(shown_shape.py: after Bake, the frame on screen). Other handle groups stay where they are
+shown; static vertices and vertices outside the region stay at rest. On confirm, a handle
+whose vertices were dragged holds them where they are (handle_holds.py); how many dragged
+vertices no handle holds is noted, for Live to say before a solve moves them.
 
 A state machine (modal_states.Grab), with Live's settle policy (settle.py).
 """
@@ -17,7 +20,7 @@ import numpy as np
 from bpy_extras.view3d_utils import region_2d_to_location_3d
 from mathutils import Vector
 
-from . import compat, engine, lifecycle, mesh_arrays, settle
+from . import compat, engine, handle_holds, lifecycle, mesh_arrays, settle, shown_shape
 from .modal_states import Grab, GrabEvent, grab_next
 from .op_common import ModalTool, error_text, guarded, over_the_view, poll_mesh, tell
 
@@ -70,7 +73,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
                 raise engine.EdgeDeformError("The selection is static or outside the region")
             compat.mode_set(ob, 'OBJECT')
             solver = lifecycle.prepare(ob, inputs)
-            current = lifecycle.shown_positions(ob)
+            current = shown_shape.addon_shape(ob)
             pinned = np.setdiff1d(inputs.handles, moving)
             solver.hold_grab(np.concatenate([moving, pinned]), inputs.static, inputs.roi)
         except Exception:
@@ -81,6 +84,8 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             raise
         self.solver = solver
         self.current = current
+        self.moving = moving
+        self.written = None         # the last shape written
         self.start = current[moving]
         self.pinned = current[pinned]
         self.n_moving = moving.size
@@ -142,6 +147,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         try:
             r = self.settle.tick(solve, moving)
             self.solver.write(r.positions)
+            self.written = r.positions
         except Exception as exc:  # noqa: BLE001 - shown; the next move retries
             tell(self, 'ERROR', error_text(exc))
             self.go(GrabEvent.FAILED)
@@ -211,11 +217,28 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             self.restore(context)
         else:
             self.snapshot.discard()
+            self.keep_the_edit()
             self.show_output_in_edit_mode()
         if self.ob.mode != 'EDIT':
             with context.temp_override(object=self.ob, active_object=self.ob):
                 compat.mode_set(self.ob, 'EDIT')
         return result
+
+    def keep_the_edit(self):
+        """Confirmed: handles whose vertices were dragged hold them where they are now;
+        the dragged vertices no handle holds are counted (lifecycle.note_unheld_edit)."""
+        if self.written is None or self.lost():
+            return
+        inputs, mesh = self.solver.inputs, self.ob.data
+        rest = self.solver.binding.X
+        for g in inputs.handle_groups:
+            dragged = np.intersect1d(g.indices, self.moving)
+            if dragged.size:
+                motion = None if g.controller is None else np.array(
+                    self.ob.matrix_world.inverted_safe() @ g.controller.matrix_world
+                    @ g.rest_inverse)
+                handle_holds.hold(mesh, rest, dragged, self.written[dragged], motion)
+        lifecycle.note_unheld_edit(mesh, np.setdiff1d(self.moving, inputs.handles).size)
 
     def show_output_in_edit_mode(self):
         """Edit Mode shows (and edits) the active shape key: make it the output key, so

@@ -9,7 +9,7 @@ import numpy as np
 from bpy.props import EnumProperty, FloatProperty, StringProperty
 from mathutils import Matrix, Vector
 
-from . import compat, engine, mesh_arrays
+from . import compat, engine, handle_holds, lifecycle, mesh_arrays, shown_shape
 from .op_common import object_mode, poll_mesh, tell
 
 PRESETS = {'SOFT': 0.0, 'MEDIUM': 0.5, 'RIGID': 1.0}
@@ -27,7 +27,8 @@ def _selected(op, ob):
 
 
 class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
-    """Make the selected vertices a new handle, moved by a new Empty at their centroid"""
+    """Make the selected vertices a new handle, moved by a new Empty at their centroid; it
+    holds them where they are shown"""
     bl_idname = "edge_deform.add_handle"
     bl_label = "Add Handle"
     bl_options = {'REGISTER', 'UNDO'}
@@ -45,10 +46,12 @@ class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
         if idx.size == 0:
             return {'CANCELLED'}
         s = ob.edge_deform
-        X = mesh_arrays.read_positions(ob.data)
-        centroid = ob.matrix_world @ Vector(X[idx].mean(axis=0))
-        size = float(np.ptp(X, axis=0).max()) * 0.08 or 0.1
         with object_mode(ob):
+            # Where the artist sees the vertices (on a deformed mesh: the shape shown, not
+            # the rest): the Empty goes there, and the handle holds them there.
+            X = shown_shape.addon_shape(ob)
+            centroid = ob.matrix_world @ Vector(X[idx].mean(axis=0))
+            size = float(np.ptp(X, axis=0).max()) * 0.08 or 0.1
             # A vertex follows one handle: take the selection out of the other groups.
             for other in [h.vertex_group for h in s.handles] + [s.static_group]:
                 if other and other in ob.vertex_groups:
@@ -66,9 +69,20 @@ class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
             item.controller = empty
             item.rest_matrix = engine.controller_rest(ob, empty)
             s.active_handle = len(s.handles) - 1
+            hold_where_shown(ob, idx, X[idx])
         tell(self, 'INFO', "Handle '%s': %d vertices, controller '%s'"
                     % (vg.name, idx.size, empty.name))
         return {'FINISHED'}
+
+
+def hold_where_shown(ob, idx, where):
+    """The new handle holds its vertices where they are shown (handle_holds.py). Without
+    a readable rest (a broken Mesh output) it holds the rest: the next solve says why."""
+    try:
+        rest = lifecycle.rest_shape(ob.data)
+    except engine.EdgeDeformError:
+        return
+    handle_holds.hold(ob.data, rest, idx, where)
 
 
 class EDGE_DEFORM_OT_remove_handle(bpy.types.Operator):
@@ -82,7 +96,13 @@ class EDGE_DEFORM_OT_remove_handle(bpy.types.Operator):
         return poll_mesh(cls, context, need_handles=True)
 
     def execute(self, context):
-        s = context.active_object.edge_deform
+        ob = context.active_object
+        s = ob.edge_deform
+        group = s.handles[min(s.active_handle, len(s.handles) - 1)].vertex_group
+        if group in ob.vertex_groups:   # its vertices are held at their rest again
+            with object_mode(ob):
+                weights = mesh_arrays.read_group_weights(ob, [group])[group]
+                handle_holds.release(ob.data, np.flatnonzero(weights > 0.0))
         s.handles.remove(min(s.active_handle, len(s.handles) - 1))
         s.active_handle = max(0, min(s.active_handle, len(s.handles) - 1))
         return {'FINISHED'}

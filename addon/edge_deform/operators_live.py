@@ -12,6 +12,12 @@ What Live says goes in a text over the viewport (overlay.py) and the panel: the 
 and the status bar stay Blender's, so a G/R/S inside Live shows its own value, axis and
 hints, and a refused key's reason shows in the status bar and over the view.
 
+Live starts from the shape shown (shown_shape.py): any solve that would start from
+scratch (the first, or after a rebind) starts from it, and on a Grab edit no handle holds
+Live solves nothing until something changes, saying so first (Live.HOLDING). With the mesh
+active it makes the active handle's controller what G/R/S move; Esc gives back the
+selection and every transform moved inside the session (live_selection.py).
+
 While the object is in another mode (the user entered Edit Mode) the tool pauses; back in
 Object Mode it binds again (the topology may have changed). Undo or the object's deletion
 end it cleanly.
@@ -24,7 +30,7 @@ previous domain and its graph, the mesh untouched (nothing is written until it i
 
 import bpy
 
-from . import engine, lifecycle, overlay, preferences, settle
+from . import engine, lifecycle, live_selection, overlay, preferences, settle, shown_shape
 from .modal_states import Live, LiveEvent, live_next
 from .op_common import (ModalTool, Stages, deformed_object, error_text, guarded,
                         over_the_view, poll_mesh, tell)
@@ -66,23 +72,45 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.saved_handles = handle_settings(s)
         self.saved_controllers = [(g.controller, g.controller.matrix_world.copy())
                                   for g in self.solver.inputs.handle_groups if g.controller]
-        self.state = Live.SOLVING
+        self.surroundings = live_selection.Surroundings(context.view_layer, ob)
+        unheld = ob.data.edge_deform_state.unheld   # a Grab edit no handle holds
+        self.state = Live.HOLDING if unheld else Live.SOLVING
         self.seen_settings = self.watched_settings(ob)
         self.seen_controllers = None
         self.switch = None          # a domain switch in progress (Stages), see start_switch
         self.refused_for = None     # what the user could fix, when the refusal came
         self.problem = None
         self.status_text = "no solve yet"
+        self.status = "no solve yet"
+        self.hint = None            # what G/R/S move, in words (live_selection)
         self.updates = 0
         self.settle = settle.Settle()
         self.keys_up, self.keys_down, self.keys_label = preferences.stiffness_keys(context)
         self.start_modal(context, ob)
         self.text = overlay.ViewportText(self.area)
         self.hold_undo_steps(context)
+        self.surroundings.select_controller(self.active_controller())
+        self.hint = live_selection.what_g_moves(context.view_layer, ob)
         for w in self.solver.warnings():
             tell(self, 'WARNING', w)
+        if unheld:
+            self.seen_controllers = engine.controller_state(ob, self.solver.inputs)
+            self.show("holding your Grab edit (%d vertices no handle holds): move a "
+                      "controller to deform" % unheld)
+            self.say('WARNING', "%d vertices placed by Grab Deform are held by no handle: "
+                                "moving a controller or changing a setting solves them with "
+                                "the rest of the mesh (to keep them, make them a handle "
+                                "first)" % unheld)
         self.update(context)
         return {'RUNNING_MODAL'}
+
+    def active_controller(self):
+        """The controller G/R/S should move: the active handle's, else the first one."""
+        s = self.ob.edge_deform
+        order = list(s.handles)
+        if order:
+            order.insert(0, order[min(s.active_handle, len(order) - 1)])
+        return next((h.controller for h in order if h.controller is not None), None)
 
     @property
     def settle_iterations(self):
@@ -118,18 +146,17 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             self.solver = None          # the topology may have changed: bind again
         try:
             self.follow_changes(context)
+            self.follow_selection(context)
             if self.state == Live.SWITCHING:
                 return
-            if self.state == Live.AT_REST:
+            if self.state in (Live.AT_REST, Live.HOLDING):
                 self.settle.rested()
                 return
             if self.settle.at_rest:     # (nothing changed since it settled)
                 self.go(LiveEvent.SETTLED)
                 return
             targets = self.solver.targets()
-            s = ob.edge_deform
-            r = self.settle.tick(lambda n, check: self.solver.solve(targets, n, s.tolerance,
-                                                                    check_claims=check),
+            r = self.settle.tick(lambda n, check: self.solve(targets, n, check),
                                  moving=self.settle.iterations == 0)
             self.solver.write(r.positions)
         except Exception as exc:  # noqa: BLE001 - shown, and retried on the next change
@@ -139,6 +166,21 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.updates += 1
         self.go(LiveEvent.SETTLED if self.settle.at_rest else LiveEvent.ITERATED)
         self.show(settle.describe(self.settle, "move a controller"))
+
+    def solve(self, targets, iterations, check_claims):
+        """More warm iterations; a solve that would start from scratch (the first, or after
+        a new graph or new constraints) starts from the shape shown instead."""
+        initial = (shown_shape.addon_shape(self.ob) if self.solver.binding.starts_cold
+                   else None)
+        return self.solver.solve(targets, iterations, self.ob.edge_deform.tolerance,
+                                 initial=initial, check_claims=check_claims)
+
+    def follow_selection(self, context):
+        """The text over the view names what G/R/S move; the artist may pick another."""
+        hint = live_selection.what_g_moves(context.view_layer, self.ob)
+        if hint != self.hint:
+            self.hint = hint
+            self.show(self.status)
 
     def follow_changes(self, context):
         """Compare what Live reads with what it last solved for; a change starts a new
@@ -260,12 +302,24 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         s = self.ob.edge_deform
         lam = ("painted (%s)" % s.stiffness_group if s.stiffness_group
                else "%.2f" % s.stiffness)
-        self.status_text = "Live Deform: %s | λ %s" % (status, lam)
+        self.status = status
+        self.status_words = "%s | λ %s" % (status, lam)
+        self.status_text = "Live Deform: " + self.status_words
         stiffness = ("stiffness: painted group" if s.stiffness_group
                      else "%s stiffness" % self.keys_label)
         self.text.set([self.status_text,
-                       "Enter keep · Esc cancel · %s · move controllers with G/R/S"
-                       % stiffness])
+                       "Enter keep · Esc cancel · %s · %s" % (stiffness, self.hint)])
+
+    def end_report(self):
+        """What Enter kept, in one sentence."""
+        if self.state == Live.HOLDING:
+            return "Live Deform ended; nothing was solved: the mesh is as it was"
+        if self.state in (Live.REFUSED, Live.PAUSED):
+            return "Live Deform ended: " + self.status_words
+        if self.settle.settled:
+            return "Live Deform kept the shape: " + self.status_words
+        return ("Live Deform kept the shape before it settled (%s): start Live again to "
+                "let it settle" % self.status_words)
 
     def say(self, level, text):
         """A message where the artist looks: over the view, and as a report (the status
@@ -326,8 +380,9 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.update(context)   # the last controller move may not be solved yet
         self.end_modal(context)
         self.snapshot.discard()
+        self.surroundings.give_back(cancelled=False)
         lifecycle.forget_cache(self.ob.data)
-        tell(self, 'INFO', "Live Deform: %d updates, %s" % (self.updates, self.status_text))
+        tell(self, 'INFO', self.end_report())
         return {'FINISHED'}
 
     def cancel_and_restore(self, context):
@@ -343,6 +398,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                 controller.matrix_world = matrix
             except ReferenceError:
                 pass            # the controller was deleted meanwhile
+        self.surroundings.give_back(cancelled=True)
         if why is not None:
             tell(self, 'WARNING', "Live Deform cancelled: " + why)
         return {'CANCELLED'}

@@ -21,6 +21,7 @@ class ViewportText:
         self.lines = []
         self.note, self.note_until = None, 0.0
         self.drawn = None
+        self._note_ends = self._end_note   # (one bound method: the timer's identity)
         self.handle = bpy.types.SpaceView3D.draw_handler_add(
             self.draw, (), 'WINDOW', 'POST_PIXEL')
 
@@ -30,9 +31,22 @@ class ViewportText:
             self.redraw()
 
     def tell(self, text):
-        """A note under the lines for NOTE_SECONDS (why a key was refused)."""
+        """A note under the lines for NOTE_SECONDS (why a key was refused). A timer
+        redraws the view when it ends: nothing else may (a still view is not redrawn)."""
         self.note, self.note_until = text, time.monotonic() + NOTE_SECONDS
         self.redraw()
+        if not bpy.app.timers.is_registered(self._note_ends):
+            bpy.app.timers.register(self._note_ends, first_interval=NOTE_SECONDS)
+
+    def _end_note(self):
+        """The timer: redraw once the latest note's time is up (None: run no more)."""
+        if self.handle is None:
+            return None
+        left = self.note_until - time.monotonic()
+        if left > 0.0:          # a newer note came meanwhile
+            return left + 0.01
+        self.redraw()
+        return None
 
     def redraw(self):
         try:
@@ -42,6 +56,8 @@ class ViewportText:
             self.area = None
 
     def remove(self):
+        if bpy.app.timers.is_registered(self._note_ends):
+            bpy.app.timers.unregister(self._note_ends)
         if self.handle is not None:
             bpy.types.SpaceView3D.draw_handler_remove(self.handle, 'WINDOW')
             self.handle = None

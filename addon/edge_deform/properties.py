@@ -4,7 +4,7 @@ import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
                        FloatVectorProperty, IntProperty, PointerProperty, StringProperty)
 
-from . import engine
+from . import engine, solve_method
 
 IDENTITY = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0),
             (0.0, 0.0, 1.0, 0.0), (0.0, 0.0, 0.0, 1.0))
@@ -12,6 +12,10 @@ IDENTITY = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0),
 
 # (identifier, name, description, number): the number is what a file stores. Newton is
 # listed only when this build of the package solves with it (engine.offered_accelerations).
+# Automatic, the default, names no method: the package's default rule picks one for the
+# mesh (solve_method.py).
+_AUTOMATIC_ITEM = (solve_method.AUTOMATIC, "Automatic", "The method the installed package "
+                   "finds fastest for this mesh and stiffness (its default)", 3)
 _ACCELERATION_ITEMS = {
     "newton": ('NEWTON', "Newton", "Newton steps on the same shape: fewest passes, each "
                "dearer", 2),
@@ -21,17 +25,12 @@ _ACCELERATION_ITEMS = {
 
 def _acceleration_items(self, context):
     # (A module-level list: Blender keeps pointers to the strings an items callback gives.)
-    _acceleration_items.cache[:] = [_ACCELERATION_ITEMS[name]
-                                    for name in engine.offered_accelerations()]
+    _acceleration_items.cache[:] = [_AUTOMATIC_ITEM] + [
+        _ACCELERATION_ITEMS[name] for name in engine.offered_accelerations()]
     return _acceleration_items.cache
 
 
 _acceleration_items.cache = []
-
-
-def _default_acceleration():
-    """The package's own default (so the add-on's Solve equals the API's solve)."""
-    return _ACCELERATION_ITEMS[engine.default_acceleration()][3]
 
 
 class EdgeDeformHandle(bpy.types.PropertyGroup):
@@ -83,7 +82,7 @@ class EdgeDeformSettings(bpy.types.PropertyGroup):
         description="How close to the final shape counts as settled, as a fraction of the "
                     "object's size (smaller: more accurate, slower)")
     acceleration: EnumProperty(
-        name="Acceleration", default=_default_acceleration(),
+        name="Acceleration", default=_AUTOMATIC_ITEM[3],
         description="How updates approach the final shape",
         items=_acceleration_items)
     output: EnumProperty(
@@ -116,6 +115,10 @@ class EdgeDeformMeshState(bpy.types.PropertyGroup):
     written: StringProperty(name="Written", description="Hash of the output last written")
     base: StringProperty(name="Base", description="Hash of the base mesh at the last write")
     baked_keys: StringProperty(name="Baked Keys", description="Keys made by Bake, one a line")
+    unheld: IntProperty(
+        name="Unheld Edit", min=0,
+        description="Vertices the last Grab Deform placed that no handle holds (0 after "
+                    "any solve)")
 
 
 CLASSES = (EdgeDeformHandle, EdgeDeformSettings, EdgeDeformMeshState)

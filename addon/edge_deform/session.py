@@ -77,6 +77,12 @@ class Binding:
         return self._constraints
 
     @property
+    def starts_cold(self):
+        """The next solve starts from scratch (a new graph or new constraints) unless it is
+        given a shape to start from (`initial`)."""
+        return self._cold_start_due
+
+    @property
     def bind_ms(self):
         """The compute time spent building and factoring this graph (not the wait around
         it, which is what Bind reports)."""
@@ -149,14 +155,17 @@ class Binding:
 
     def solve(self, targets, iterations, tolerance, acceleration, warm=True, initial=None,
               check_claims=True):
-        """One solve call. warm: continue from the previous solve unless a cold start is
-        due (with unchanged targets that continues the same accelerated iteration, so
-        repeated short calls settle on the one long call's shape). check_claims: a
-        convergence claim is first checked against J_G's slowest mode (the core's
-        verify_claims: without it Live called the 50k koala settled 4.7e-3 of its size
-        away, docs/decisions/0025)."""
+        """One solve call. acceleration: the package's name of a method, or None: the
+        package's own default rule chooses (docs/decisions/0043). warm: continue from the
+        previous solve unless a cold start is due (with unchanged targets that continues
+        the same accelerated iteration, so repeated short calls settle on the one long
+        call's shape). check_claims: a convergence claim is first checked against J_G's
+        slowest mode (the core's verify_claims: without it Live called the 50k koala
+        settled 4.7e-3 of its size away, docs/decisions/0025)."""
         kwargs = dict(max_iterations=int(iterations), tolerance=float(tolerance),
-                      acceleration=acceleration, verify_claims=bool(check_claims))
+                      verify_claims=bool(check_claims))
+        if acceleration is not None:
+            kwargs["acceleration"] = acceleration
         if initial is not None:
             r = self._deformer.solve(targets, warm_start=False, initial=initial, **kwargs)
         else:

@@ -50,8 +50,15 @@ class EDGE_DEFORM_UL_handles(bpy.types.UIList):
     def draw_item(self, context, layout, data, item, icon, active_data, active_prop):
         # The group's name, and an icon for its controller (its name is in the field
         # below the list): "group → controller" was cut at the default sidebar width.
+        # In a narrow sidebar the name gets the whole row (with two icons and the list's
+        # buttons beside it, "Handle" and "Handle.001" were both cut to "Ha…" at 170 px):
+        # an icon only for a missing controller.
+        name = item.vertex_group or "(no group)"
+        if narrow(context):
+            layout.label(text=name, icon='NONE' if item.controller else 'ERROR')
+            return
         row = layout.row(align=True)
-        row.label(text=item.vertex_group or "(no group)", icon='GROUP_VERTEX')
+        row.label(text=name, icon='GROUP_VERTEX')
         row.label(text="", icon='EMPTY_AXIS' if item.controller else 'ERROR')
 
 
@@ -174,14 +181,21 @@ class EDGE_DEFORM_PT_handles(_SubPanel, bpy.types.Panel):
         layout = self.layout
         ob = target(self.layout, context)
         s = ob.edge_deform
-        row = layout.row()
-        row.template_list("EDGE_DEFORM_UL_handles", "", s, "handles", s, "active_handle",
-                          rows=3)
-        col = row.column(align=True)
-        col.operator("edge_deform.add_handle", text="", icon='ADD')
-        col.operator("edge_deform.remove_handle", text="", icon='REMOVE')
-        col.separator()
-        col.operator("edge_deform.select_controller", text="", icon='RESTRICT_SELECT_OFF')
+        # The list's buttons beside it, or under it in a narrow sidebar (the list is the
+        # only place the handles' names are listed: it gets the whole width there).
+        if narrow(context):
+            layout.template_list("EDGE_DEFORM_UL_handles", "", s, "handles", s,
+                                 "active_handle", rows=3)
+            buttons = layout.row(align=True)
+        else:
+            row = layout.row()
+            row.template_list("EDGE_DEFORM_UL_handles", "", s, "handles", s,
+                              "active_handle", rows=3)
+            buttons = row.column(align=True)
+        buttons.operator("edge_deform.add_handle", text="", icon='ADD')
+        buttons.operator("edge_deform.remove_handle", text="", icon='REMOVE')
+        buttons.separator()
+        buttons.operator("edge_deform.select_controller", text="", icon='RESTRICT_SELECT_OFF')
         if s.handles:
             item = s.handles[min(s.active_handle, len(s.handles) - 1)]
             col = layout.column()

@@ -24,6 +24,16 @@ def steps():
     ob = bpy.data.objects["plane"]
     add_group(ob, "Stiffness", np.arange(len(ob.data.vertices)), 0.8)
     ob.edge_deform.stiffness_group = "Stiffness"
+    # Two handles named as Add Handle names them ("Handle", "Handle.001"): the list must
+    # show both names in full at both widths.
+    co = np.array([v.co[:] for v in ob.data.vertices])
+    add_group(ob, "Handle", np.flatnonzero(co[:, 0] > co[:, 0].max() - 0.1 * np.ptp(co[:, 0])))
+    add_group(ob, "Handle.001", np.flatnonzero(np.abs(co[:, 0]) < 0.05 * np.ptp(co[:, 0])))
+    ob.edge_deform.handles[0].vertex_group = "Handle"
+    second = ob.edge_deform.handles.add()
+    second.vertex_group = "Handle.001"
+    second.controller = bpy.data.objects["H_ctrl"].copy()
+    bpy.context.scene.collection.objects.link(second.controller)
     with override():
         assert bpy.ops.edge_deform.bind('EXEC_DEFAULT', True) == {'FINISHED'}
     for _ in range(5):

@@ -406,6 +406,38 @@ def test_acceleration_choices_follow_the_package():
         assert engine.acceleration(s) == dict(engine.ACCELERATIONS)[item]
 
 
+def test_automatic_names_no_method():
+    """Acceleration defaults to Automatic: the add-on's solves name no method, so the
+    package's default rule chooses (docs/decisions/0043); an explicit choice is named."""
+    from edge_deform import session, solve_method
+    ob, V, F, handle, static, ctrl = plane_setup("plane_auto")
+    s = ob.edge_deform
+    assert s.acceleration == solve_method.AUTOMATIC, s.acceleration
+    assert bpy.ops.edge_deform.bind() == {'FINISHED'}
+    binding = session.get(ob.data.as_pointer())
+    calls = []
+
+    class Spy:
+        """The binding's Deformer, recording the keywords of each solve."""
+        def __init__(self, deformer):
+            self.deformer = deformer
+
+        def solve(self, *args, **kwargs):
+            calls.append(kwargs)
+            return self.deformer.solve(*args, **kwargs)
+
+        def __getattr__(self, name):
+            return getattr(self.deformer, name)
+    binding._deformer = Spy(binding.deformer)
+    move(ctrl)
+    assert bpy.ops.edge_deform.solve() == {'FINISHED'}
+    assert calls and all("acceleration" not in k for k in calls), calls
+    s.acceleration = 'ANDERSON'
+    calls.clear()
+    assert bpy.ops.edge_deform.solve() == {'FINISHED'}
+    assert calls and all(k.get("acceleration") == "anderson" for k in calls), calls
+
+
 def test_solves_check_their_convergence_claim():
     """The add-on's solves ask the core to check a convergence claim against J_G's slowest
     mode (verify_claims, docs/decisions/0025) unless told not to (a drag tick): the same
@@ -431,4 +463,5 @@ if __name__ == "__main__":
          test_stiffness_group, test_quads_and_ngons, test_object_transform_and_warm_start,
          test_topology_change_never_wrong, test_bad_input_cancels, test_apply_and_unbind,
          test_solve_names_a_graph_rebuild, test_modal_tools_stop_settling_at_the_limit,
-         test_acceleration_choices_follow_the_package, test_solves_check_their_convergence_claim])
+         test_acceleration_choices_follow_the_package, test_automatic_names_no_method,
+         test_solves_check_their_convergence_claim])

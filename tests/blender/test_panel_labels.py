@@ -15,7 +15,9 @@ It holds on Blender 4.3.2 (Debian 13) too, whose UI font is wider: it said "Shap
 the Solver panel's Output row had 54 px for 55 px of text at 170 px, and a window under
 Xvfb (UI scale 1.04) showed "Shape K…" at 176 px and the full text at 185 px.
 Group-name fields are checked at the default width only (a value may shorten, in
-Blender's usual way, in a narrow sidebar; a label may not).
+Blender's usual way, in a narrow sidebar; a label may not). The handle list's names are
+checked at both widths: the list is the only place the handles are listed (at 170 px the
+walk-through found "Handle" and "Handle.001" both cut to "Ha…").
 """
 
 import os
@@ -32,6 +34,7 @@ ICON_BUTTON = 26  # a button with an icon only, with the gap before it
 PAD = 6           # text padding of a label (a button's: 4)
 BUTTON_PAD = 4
 LIST_SIDE = 40    # the handle list's column of buttons and its frame
+LIST_FRAME = 14   # the handle list's frame alone (its buttons under it)
 NUMBER_SIDES = 40 # a number field's arrows and the gap between its label and value
 
 
@@ -140,19 +143,23 @@ class Layout:
         """(text, room, kind) for every text, in a layout `width` pixels wide. In the
         handle list the texts are names (values)."""
         lists = [i for i in self.items if isinstance(i, tuple)]
-        if lists:   # the list beside its column of icon buttons
+        beside = self.horizontal and len(self.items) > 1
+        if lists:   # the list beside its column of icon buttons, or with them under it
             _, ui_list, data, prop = lists[0]
             for entry in getattr(data, prop):
                 row = Layout(True)
                 ui_list.draw_item(ui_list, bpy.context, row, data, entry, 0, data, prop)
-                row.room(width - LIST_SIDE, out, values, in_list=True)
-            return
+                row.room(width - (LIST_SIDE if beside else LIST_FRAME), out, values,
+                         in_list=True)
+            if beside:
+                return
+        items = [i for i in self.items if not isinstance(i, tuple)]
         if self.horizontal:
-            fixed = [i for i in self.items if isinstance(i, Item) and not i.text]
-            share = (width - ICON_BUTTON * len(fixed)) / max(1, len(self.items) - len(fixed))
+            fixed = [i for i in items if isinstance(i, Item) and not i.text]
+            share = (width - ICON_BUTTON * len(fixed)) / max(1, len(items) - len(fixed))
         else:
             share = width
-        for item in self.items:
+        for item in items:
             if isinstance(item, Layout):
                 item.room(share, out, values, in_list)
             elif item.text:
@@ -162,9 +169,8 @@ class Layout:
                     room = share - NUMBER_SIDES
                 else:
                     room = share - PAD - (ICON if item.icon else 0)
-                if in_list:
-                    if values:
-                        out.append((item.text, room, "value"))
+                if in_list:   # (names in the list: checked at every width)
+                    out.append((item.text, room, "value"))
                 elif item.kind == "value":
                     room -= ICON_BUTTON          # the field's clear button
                     if values:
@@ -207,6 +213,9 @@ def scene_states():
     h.vertex_group = "Handle"       # the names Add Handle gives
     ctrl.name = "Handle_Controller"
     add_group(ob, "Handle", handle)
+    second = s.handles.add()
+    second.vertex_group, second.controller = "Handle.001", ctrl
+    add_group(ob, "Handle.001", static)
     yield "painted, Add Handle's names"
 
     class Running:

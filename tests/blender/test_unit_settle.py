@@ -237,6 +237,12 @@ def test_live_transitions():
         go(L.PAUSED, E.ITERATED)          # a paused Live never solves
     with pytest.raises(states.IllegalTransition):
         go(L.SWITCHING, E.CHANGED)        # nothing else happens during a switch
+    # Started on a Grab edit no handle holds: nothing is solved until something changes.
+    assert go(L.HOLDING, E.CHANGED) == L.SOLVING
+    assert go(L.HOLDING, E.MODE_LEFT) == L.PAUSED
+    for event in (E.ITERATED, E.SETTLED):
+        with pytest.raises(states.IllegalTransition):
+            go(L.HOLDING, event)          # holding never iterates
     # Every state can be left (no dead end but the tool's own end).
     for state in L:
         assert any(True for e in E if _legal(go, state, e))

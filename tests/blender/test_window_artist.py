@@ -11,29 +11,17 @@ import os
 import re
 import sys
 import time
-import traceback
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bmesh  # noqa: E402
 from bpy_extras.view3d_utils import location_3d_to_region_2d  # noqa: E402
-from helpers import OUT, Told, add_group, bpy, key_positions, np, positions  # noqa: E402
+from helpers import Told, add_group, bpy, key_positions, np, positions  # noqa: E402
 from helpers import select_only, visible  # noqa: E402
 from mathutils import Vector  # noqa: E402
-from window_harness import (center, event, g_drag, grab_until_moved, main,  # noqa: E402
-                            override, screenshot, setup, tap, until, view3d)
-
-
-def plane():
-    return bpy.data.objects["plane"]
-
-
-def ctrl():
-    return bpy.data.objects["H_ctrl"]
-
-
-def running():
-    from edge_deform import op_common
-    return op_common.running_tool()
+from window_harness import (center, ctrl, event, g_drag, grab_until_moved,  # noqa: E402
+                            keyed_lift, main, override, plane, run_sections, running, screenshot,
+                            setup, tap, until, view3d)
+from window_ui import window_pixels  # noqa: E402
 
 
 def start_live():
@@ -46,20 +34,6 @@ def start_live():
 def region(kind):
     _, area, _ = view3d()
     return [r for r in area.regions if r.type == kind][0]
-
-
-def window_pixels(name):
-    """A screenshot of the window as an (h, w, 4) array, row 0 at the bottom (Blender's
-    region coordinates)."""
-    screenshot(name)
-    image = bpy.data.images.load(os.path.join(OUT, name))
-    try:
-        w, h = image.size
-        px = np.empty(w * h * 4, np.float32)
-        image.pixels.foreach_get(px)
-        return px.reshape(h, w, 4)
-    finally:
-        bpy.data.images.remove(image)
 
 
 def crop(px, r):
@@ -308,11 +282,7 @@ def f08_baked_keys_and_live_do_not_add_up():
     handle = HANDLE[0]
     rest = positions(ob.data).astype(float)
     c = ctrl()
-    z0 = c.location.z
-    c.keyframe_insert("location", frame=1)
-    c.location.z = z0 + 0.125
-    c.keyframe_insert("location", frame=9)
-    scene.frame_start, scene.frame_end = 1, 9
+    z0 = keyed_lift(c, 0.125, 9)
     scene.frame_set(1)
     with override():
         assert bpy.ops.edge_deform.bake('EXEC_DEFAULT', True) == {'FINISHED'}
@@ -414,29 +384,11 @@ HANDLE = [None]   # the handle's vertex indices of the scene setup() made
 def steps():
     tap('ESC')   # dismiss the splash screen
     yield
-    failed = []
-    for finding in FINDINGS:
+
+    def fresh_scene(_finding):
         HANDLE[0], _ = setup()
-        with override():
-            bpy.ops.ed.undo_push(message=finding.__name__)
-        try:
-            yield from finding()
-            print("PASS", finding.__name__)
-        except Exception:  # noqa: BLE001 - reported; the next finding runs
-            traceback.print_exc()
-            print("FAIL", finding.__name__)
-            failed.append(finding.__name__)
-        for _ in range(3):    # end whatever the section left running
-            if running() is None:
-                break
-            tap('ESC')
-            yield from until(lambda: running() is None, 5)
-        if bpy.context.active_object is not None and bpy.context.active_object.mode != 'OBJECT':
-            with override():
-                bpy.ops.object.mode_set(mode='OBJECT')
         yield
-    print("findings failed: %s" % (", ".join(failed) or "none"))
-    assert not failed, failed
+    yield from run_sections(FINDINGS, fresh_scene)
 
 
 main(steps, limit_s=540)

@@ -116,6 +116,9 @@ def steps():
         start_live()
         ctrl().location.z += 0.3
         yield from until(live_follows(handle, rest, 0.3))
+        # Live made the controller the active object (G/R/S move it): the artist picks
+        # the mesh before entering its Edit Mode.
+        bpy.context.view_layer.objects.active = plane()
         with override():
             bpy.ops.object.mode_set(mode='EDIT')   # from the mode menu
         yield

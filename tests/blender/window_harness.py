@@ -100,6 +100,34 @@ def until(predicate, seconds=10.0):
         yield
 
 
+def plane():
+    """The plane setup() makes."""
+    return bpy.data.objects["plane"]
+
+
+def ctrl():
+    """Its handle's controller."""
+    return bpy.data.objects["H_ctrl"]
+
+
+def running():
+    """The Edge Deform tool running now, or None."""
+    from edge_deform import op_common
+    return op_common.running_tool()
+
+
+def keyed_lift(controller, dz, last):
+    """Key `controller` where it is on frame 1 and lifted by `dz` on frame `last`; the
+    scene plays frames 1 to `last`. Returns its height on frame 1."""
+    z0 = controller.location.z
+    controller.keyframe_insert("location", frame=1)
+    controller.location.z = z0 + dz
+    controller.keyframe_insert("location", frame=last)
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 1, last
+    return z0
+
+
 def setup():
     register()
     for ob in list(bpy.data.objects):
@@ -130,6 +158,37 @@ def watchdog(seconds=240):
     timer = threading.Timer(seconds, fire)
     timer.daemon = True
     timer.start()
+
+
+def run_sections(sections, prepare):
+    """Run each section (a generator function) on the scene `prepare(section)` (a
+    generator) makes: a failed section is reported and the next one runs; what a section
+    left running is ended (Esc) and Object Mode restored. Fails at the end, naming the
+    failed sections."""
+    failed = []
+    for section in sections:
+        yield from prepare(section)
+        with override():
+            bpy.ops.ed.undo_push(message=section.__name__)
+        try:
+            yield from section()
+            print("PASS", section.__name__)
+        except Exception:  # noqa: BLE001 - reported; the next section runs
+            traceback.print_exc()
+            print("FAIL", section.__name__)
+            failed.append(section.__name__)
+        for _ in range(3):    # end whatever the section left running
+            if running() is None:
+                break
+            tap('ESC', at=center(0, -150))
+            yield from until(lambda: running() is None, 5)
+        ob = bpy.context.active_object
+        if ob is not None and ob.mode != 'OBJECT':
+            with override():
+                bpy.ops.object.mode_set(mode='OBJECT')
+        yield
+    print("sections failed: %s" % (", ".join(failed) or "none"))
+    assert not failed, failed
 
 
 LAST = ["start"]
