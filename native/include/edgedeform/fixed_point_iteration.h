@@ -8,10 +8,10 @@
 #include "edgedeform/anderson.h"
 #include "edgedeform/convergence.h"
 #include "edgedeform/fixed_point_problem.h"
+#include "edgedeform/iteration_point.h"
+#include "edgedeform/solve_types.h"
 
 namespace edgedeform {
-
-struct SolveResult;
 
 struct PlainAndersonSettings {
   int max_iterations = 2000;  // global steps
@@ -47,20 +47,11 @@ struct PlainAndersonMemory {
   }
 };
 
-// The iterate the strategy continues: y (#free x 3), the fit at y (when fitted), E(y).
-struct PlainAndersonPoint {
-  Eigen::MatrixXd& y;
-  LocalFit& fit;
-  double& energy;
-  bool& fitted;  // fit = fit(y); false for a cold start's first step (R = I, s = 1)
-  PlainAndersonMemory& memory;
-};
-
 // Runs until converged or max_iterations global steps; fills result's iterations,
 // energies, residuals, distance_estimate, converged, accelerated and rejected steps, and
-// warnings (throws SolveInterrupted when the problem asks to stop). On return y holds the
-// result and fit its local fit.
-void plain_anderson_solve(FixedPointProblem& problem, const PlainAndersonSettings& settings,
-                          PlainAndersonPoint point, SolveResult& result);
+// warnings (throws SolveInterrupted when the problem asks to stop; the caller then marks the
+// point unfitted). On return point.y holds the result and fit its local fit.
+void plain_anderson_solve(FixedPointProblem& problem, const PlainAndersonSettings& settings, IterationPoint& point,
+                          LocalFit& fit, PlainAndersonMemory& memory, SolveResult& result);
 
 }  // namespace edgedeform

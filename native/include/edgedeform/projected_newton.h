@@ -22,10 +22,10 @@
 #include <vector>
 
 #include "edgedeform/fixed_point_problem.h"
+#include "edgedeform/iteration_point.h"
+#include "edgedeform/solve_types.h"
 
 namespace edgedeform {
-
-struct SolveResult;
 
 // lambda = 1: how much of K a step projects (linearize_fit's `projection`): 0 is K itself, 1
 // every indefinite term.
@@ -61,15 +61,6 @@ struct NewtonMemory {
   }
 };
 
-// The iterate the strategy continues: y (#free x 3), the fit at y (when fitted), E(y).
-struct NewtonPoint {
-  Eigen::MatrixXd& y;
-  LocalFit& fit;
-  double& energy;
-  bool& fitted;  // fit = fit(y); false for a cold start's first step (R = I, s = 1)
-  NewtonMemory& memory;
-};
-
 enum class NewtonEnd {
   Converged,
   Stopped,  // max_iterations, or non-finite positions (a warning says which)
@@ -78,8 +69,9 @@ enum class NewtonEnd {
 
 // Runs until one of NewtonEnd; fills result's iterations, energies, residuals,
 // distance_estimate, converged, Newton counters and warnings (throws SolveInterrupted when
-// asked to stop). Never ends worse (in its merit) than its best point.
-NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSettings& settings, NewtonPoint point,
-                                 SolveResult& result);
+// asked to stop; the caller then marks the point unfitted). Never ends worse (in its merit)
+// than its best point.
+NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSettings& settings, IterationPoint& point,
+                                 LocalFit& fit, NewtonMemory& memory, SolveResult& result);
 
 }  // namespace edgedeform

@@ -13,21 +13,20 @@ namespace edgedeform {
 
 void Deformer::iterate_plain_anderson(FixedPointProblem& problem, const SolveOptions& options, int budget, LocalFit& fit,
                                       SolveResult& result) {
-  Iteration& it = iter_;
-  it.newton_valid = false;  // Newton's state no longer describes the iterate
+  iter_.newton_valid = false;  // Newton's state no longer describes the iterate
   PlainAndersonSettings settings;
   settings.max_iterations = budget;
   settings.tolerance = options.tolerance;
   settings.diag = diag_;
-  settings.descent = assembled_->term_lambda.size() > 0 && assembled_->term_lambda.minCoeff() >= 1.0;
+  settings.descent = all_rigid_;
   settings.accelerate = options.acceleration != Acceleration::None;
   settings.verify_claims = options.verify_claims;
-  plain_anderson_solve(problem, settings, PlainAndersonPoint{it.y, fit, it.energy, it.continuable, it.plain}, result);
+  plain_anderson_solve(problem, settings, iter_.point, fit, iter_.plain, result);
 }
 
 void Deformer::iterate_newton(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit,
                               SolveResult& result) {
-  Iteration& it = iter_;
+  IterationState& it = iter_;
   const int lead_in_left = options.newton.lead_in - it.lead_in_iterations;
   if (!it.newton_valid && lead_in_left > 0) {
     // The Anderson lead-in, counted since the targets were set (live ticks share it); its
@@ -39,10 +38,10 @@ void Deformer::iterate_newton(FixedPointProblem& problem, const SolveOptions& op
     if (result.converged || result.iterations >= options.max_iterations) return;
     result.warnings.resize(warnings);
   }
-  const bool fresh = !it.continuable || !it.newton_valid;
+  const bool fresh = !it.point.fitted || !it.newton_valid;
   // A solve that continues a fitted iterate (live editing standing still) goes on with the
   // last call's Newton state; a fresh start takes a plain step first when the fit is not y's.
-  if (fresh) it.newton.reset(it.continuable ? 0 : 1);
+  if (fresh) it.newton.reset(it.point.fitted ? 0 : 1);
   if (fresh && !options.newton.ladder) it.newton.level = 0;  // "full": K itself first
   it.newton_valid = true;
   it.plain.forget();  // the Anderson state and rate estimate do not describe Newton's iterates
@@ -50,17 +49,17 @@ void Deformer::iterate_newton(FixedPointProblem& problem, const SolveOptions& op
   settings.max_iterations = options.max_iterations;
   settings.tolerance = options.tolerance;
   settings.diag = diag_;
-  settings.descent = assembled_->term_lambda.size() > 0 && assembled_->term_lambda.minCoeff() >= 1.0;
+  settings.descent = all_rigid_;
   settings.ladder = options.newton.ladder;
   settings.lifted = options.newton.lifted;
   result.energies.reserve(static_cast<size_t>(options.max_iterations));
   result.residuals.reserve(static_cast<size_t>(options.max_iterations));
   const NewtonEnd end =
-      projected_newton_solve(problem, settings, NewtonPoint{it.y, fit, it.energy, it.continuable, it.newton}, result);
+      projected_newton_solve(problem, settings, it.point, fit, it.newton, result);
   if (end == NewtonEnd::GaveUp && result.iterations < options.max_iterations) {
     // Newton's steps stopped lowering the merit: Anderson for the rest of the budget.
     ++result.newton_fallbacks;
-    it.plain.restart(static_cast<int>(it.y.rows()), options.anderson_window);
+    it.plain.restart(static_cast<int>(it.point.y.rows()), options.anderson_window);
     iterate_plain_anderson(problem, options, options.max_iterations - result.iterations, fit, result);
   }
 }

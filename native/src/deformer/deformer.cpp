@@ -49,22 +49,6 @@ void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX
 
 }  // namespace
 
-const char* acceleration_name(Acceleration a) {
-  switch (a) {
-    case Acceleration::Newton: return "newton";
-    case Acceleration::Anderson: return "anderson";
-    case Acceleration::None: break;
-  }
-  return "none";
-}
-
-Acceleration parse_acceleration(const std::string& name) {
-  if (name == "newton") return Acceleration::Newton;
-  if (name == "anderson") return Acceleration::Anderson;
-  if (name == "none") return Acceleration::None;
-  throw std::invalid_argument("acceleration must be \"newton\", \"anderson\" or \"none\", got \"" + name + "\"");
-}
-
 Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, bool clamp_negative_weights) {
   check_mesh(V, F);
   safe_range_.center = 0.5 * (V.colwise().minCoeff() + V.colwise().maxCoeff());
@@ -101,7 +85,7 @@ void Deformer::set_constraints(const ConstraintSets& sets) {
   if (system_) warm_.keep_per_node(system_->term_nodes);  // while the old terms are known
   system_ = std::move(system);
   assembled_.reset();
-  iter_.positions_valid = false;  // the free vertices changed
+  iter_.free_set_changed();
 }
 
 void Deformer::set_stiffness(double lambda) {
@@ -129,7 +113,8 @@ void Deformer::ensure_factored(SolveResult& result) {
     factors_.factor_for(*system_, *assembled, operators_.is_base(assembled), operators_.base_values());
   assembled_ = std::move(assembled);
   stiffness_changed_ = false;
-  iter_.continuable = false;  // a new system: a new map G
+  all_rigid_ = assembled_->term_lambda.size() > 0 && assembled_->term_lambda.minCoeff() >= 1.0;
+  iter_.system_changed();
   newton_factor_.operators_changed();
   result.factor_ms = ms_since(start);
 }
@@ -166,8 +151,7 @@ struct Deformer::StepProblem final : FixedPointProblem {
   }
   bool factor_newton(const LocalFit& fit, double projection) override {
     const FixedPointLinearization lin(*d.system_, *d.assembled_, fit, d.node_positions_, projection);
-    const bool symmetric = d.assembled_->term_lambda.size() > 0 && d.assembled_->term_lambda.minCoeff() >= 1.0;
-    const bool ok = d.newton_factor_.factor(lin, symmetric);
+    const bool ok = d.newton_factor_.factor(lin, d.all_rigid_);  // K is symmetric at lambda = 1
     ++result.newton_factorizations;
     result.assemble_ms += d.newton_factor_.assemble_ms();
     result.newton_factor_ms += d.newton_factor_.factor_ms();
@@ -234,14 +218,19 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
 
   LocalFit fit = start_point(targets, options, x_local, result);
   StepProblem problem(*this, c, x_local, result, options);
-  if (options.acceleration == Acceleration::Newton)
-    iterate_newton(problem, options, fit, result);
-  else
-    iterate_plain_anderson(problem, options, options.max_iterations, fit, result);
+  try {
+    if (options.acceleration == Acceleration::Newton)
+      iterate_newton(problem, options, fit, result);
+    else
+      iterate_plain_anderson(problem, options, options.max_iterations, fit, result);
+  } catch (const SolveInterrupted&) {
+    iter_.interrupted();
+    throw;
+  }
 
-  Iteration& it = iter_;
-  for (int k = 0; k < nf; ++k) result.positions.row(sys.free_vertices[static_cast<size_t>(k)]) = it.y.row(k);
-  it.positions_valid = true;
+  const Eigen::MatrixXd& y = iter_.point.y;
+  for (int k = 0; k < nf; ++k) result.positions.row(sys.free_vertices[static_cast<size_t>(k)]) = y.row(k);
+  iter_.finished();
   if (auto torn = seam_warning(seams_, result.positions, seam_tolerance_)) result.warnings.push_back(*torn);
   warm_.store(std::move(fit));  // the next warm start begins here
   return result;
@@ -250,33 +239,22 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
 LocalFit Deformer::start_point(const RowMatrixX3d& targets, const SolveOptions& options, RowMatrixX3d& x_local,
                                SolveResult& result) {
   const ConstrainedSystem& sys = *system_;
-  const int nf = sys.n_free();
   // Continue the last iteration (its Anderson history and rate estimate included) when
   // nothing changed; otherwise start afresh from rotations and scales (starting_fit).
-  Iteration& it = iter_;
-  const bool same_targets = it.targets.rows() == targets.rows() && it.targets == targets;
   const bool warm = options.warm_start && !options.initial;
-  const bool resume = warm && it.continuable && same_targets && warm_.has_fit();
+  const bool resume = warm && iter_.continues(targets) && warm_.has_fit();
   LocalFit fit = warm_.starting_fit(sys, warm);
-  if (!resume) {
-    if (it.y.rows() != nf || !it.positions_valid || !options.warm_start) {  // measure the first step from rest
-      it.y.resize(nf, 3);
-      for (int k = 0; k < nf; ++k) it.y.row(k) = rest_.row(sys.free_vertices[static_cast<size_t>(k)]);
-    }
-    it.plain.restart(nf, options.anderson_window);
-    it.targets = targets;
-    it.continuable = false;  // fit is not fit(y) yet
-    it.newton_valid = false;
-    it.lead_in_iterations = 0;
-  } else {
-    it.plain.set_window(nf, options.anderson_window);
-  }
+  if (!resume)
+    iter_.restart(targets, rest_, sys.free_vertices, options.warm_start, options.anderson_window);
+  else
+    iter_.plain.set_window(sys.n_free(), options.anderson_window);
   if (options.initial) {
-    for (int k = 0; k < nf; ++k) it.y.row(k) = options.initial->row(sys.free_vertices[static_cast<size_t>(k)]);
-    local_step(it.y, x_local, fit, result);
+    iter_.start_at(*options.initial, sys.free_vertices);
+    IterationPoint& point = iter_.point;
+    local_step(point.y, x_local, fit, result);
     result.initial_energy = fit.energy;
-    it.energy = fit.energy;
-    it.continuable = true;
+    point.energy = fit.energy;
+    point.fitted = true;
   }
   return fit;
 }

@@ -6,11 +6,9 @@
 #include <cstdlib>
 #include <functional>
 #include <limits>
-#include <sstream>
 #include <string>
 
 #include "edgedeform/convergence.h"
-#include "edgedeform/deformer.h"
 #include "edgedeform/errors.h"
 
 namespace edgedeform {
@@ -75,8 +73,8 @@ bool stalled(NewtonMemory& memory, double b_norm) {
 
 }  // namespace
 
-NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSettings& s, NewtonPoint point,
-                                 SolveResult& result) {
+NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSettings& s, IterationPoint& point,
+                                 LocalFit& fit, NewtonMemory& memory, SolveResult& result) {
   Eigen::MatrixXd& y = point.y;
   const Eigen::Index nf = y.rows();
   Eigen::MatrixXd g(nf, 3), rhs(nf, 3), b(nf, 3), delta(nf, 3), trial_g(nf, 3), trial_rhs(nf, 3), trial_y(nf, 3);
@@ -84,32 +82,28 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
   double best_merit = std::numeric_limits<double>::infinity();
   LocalFit trial_fit;
   bool have_g = false;  // g, rhs already hold G(y): a line-search trial that was kept
-  NewtonMemory& memory = point.memory;
   result.distance_estimate = std::numeric_limits<double>::infinity();
 
   const std::function<void()> stop_if_asked = [&] {
-    if (problem.interrupt_requested()) {
-      point.fitted = false;
-      throw SolveInterrupted("solve interrupted");
-    }
+    if (problem.interrupt_requested()) throw SolveInterrupted("solve interrupted");
   };
-  // One evaluation of G at `at` (fitted as `fit`): an iteration of the solve.
-  auto evaluate = [&](const Eigen::MatrixXd& at, const LocalFit& fit, Eigen::MatrixXd& to_rhs, Eigen::MatrixXd& to_g) {
-    problem.global_step(fit, to_rhs, to_g);
+  // One evaluation of G at `at` (fitted as `at_fit`): an iteration of the solve.
+  auto evaluate = [&](const Eigen::MatrixXd& at, const LocalFit& at_fit, Eigen::MatrixXd& to_rhs, Eigen::MatrixXd& to_g) {
+    problem.global_step(at_fit, to_rhs, to_g);
     ++result.iterations;
     const double r = max_row_distance(to_g, at) / s.diag;
     result.residuals.push_back(r);
     return r;
   };
   auto give_up = [&] {
-    point.energy = problem.local_fit(y, point.fit);  // the trials moved the linearization point
+    point.energy = problem.local_fit(y, fit);  // the trials moved the linearization point
     return NewtonEnd::GaveUp;
   };
 
   while (result.iterations < s.max_iterations) {
     stop_if_asked();
     if (!have_g) {
-      const double r0 = evaluate(y, point.fit, rhs, g);
+      const double r0 = evaluate(y, fit, rhs, g);
       result.energies.push_back(point.energy);
       if (!std::isfinite(r0)) {
         result.warnings.push_back("the iteration produced non-finite positions; stopped at the last finite shape");
@@ -130,7 +124,7 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
     if (!point.fitted || memory.plain_steps_left > 0 || no_trial_left) {  // a plain local/global step
       if (memory.plain_steps_left > 0) --memory.plain_steps_left;
       y.swap(g);
-      point.energy = problem.local_fit(y, point.fit);
+      point.energy = problem.local_fit(y, fit);
       point.fitted = true;
       result.energies.back() = point.energy;
       continue;
@@ -144,7 +138,7 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
       best_y = y;
     }
 
-    const bool factored = factor_direction(problem, point.fit, s, memory, stop_if_asked);
+    const bool factored = factor_direction(problem, fit, s, memory, stop_if_asked);
     const bool exact = factored && (!s.descent || memory.level == 0);
     stop_if_asked();
     bool accepted = false;
@@ -155,18 +149,18 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
       step_size = largest_row(delta) / s.diag;
       const double slope = -2.0 * frobenius_dot(b, delta);  // dE/dalpha at lambda = 1
       if (s.descent && std::isfinite(step_size) && slope < 0.0) {
-        if (s.lifted) problem.prepare_lift(point.fit, delta);
+        if (s.lifted) problem.prepare_lift(fit, delta);
         for (int attempt = 0; attempt <= kBacktracks; ++attempt) {
           stop_if_asked();
           if (s.lifted)
-            problem.lifted_step(point.fit, alpha, trial_y);
+            problem.lifted_step(fit, alpha, trial_y);
           else
             trial_y = y + alpha * delta;
-          trial_fit = point.fit;  // its rotations start the fit
+          trial_fit = fit;  // its rotations start the fit
           const double trial_energy = problem.local_fit(trial_y, trial_fit);
           if (std::isfinite(trial_energy) && trial_energy <= point.energy + kArmijo * alpha * slope) {
             y.swap(trial_y);
-            std::swap(point.fit, trial_fit);
+            std::swap(fit, trial_fit);
             point.energy = trial_energy;
             result.energies.back() = point.energy;
             accepted = true;
@@ -181,7 +175,7 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
         for (int attempt = 0; attempt <= kBacktracks && result.iterations < s.max_iterations; ++attempt) {
           stop_if_asked();
           trial_y = y + alpha * delta;
-          trial_fit = point.fit;
+          trial_fit = fit;
           const double trial_energy = problem.local_fit(trial_y, trial_fit);
           bool keep = false;
           if (std::isfinite(trial_energy)) {
@@ -192,7 +186,7 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
           }
           if (keep) {
             y.swap(trial_y);
-            std::swap(point.fit, trial_fit);
+            std::swap(fit, trial_fit);
             point.energy = trial_energy;
             g.swap(trial_g);
             rhs.swap(trial_rhs);
@@ -213,7 +207,7 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
       memory.plain_steps_left = kFallbackSteps;
       memory.candidate = false;
       if (++memory.failures >= kFailuresBeforeGivingUp) return give_up();
-      point.energy = problem.local_fit(y, point.fit);  // the trials moved the linearization point
+      point.energy = problem.local_fit(y, fit);  // the trials moved the linearization point
       continue;
     }
     memory.failures = 0;
@@ -237,24 +231,18 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
   if (best_y.size() != 0 && point.fitted) {
     double merit = point.energy;
     if (!s.descent) {
-      problem.global_step(point.fit, rhs, g);
+      problem.global_step(fit, rhs, g);
       merit = (rhs - problem.A() * y).norm();
     }
     if (best_merit < merit) {
       y = best_y;
-      point.energy = problem.local_fit(y, point.fit);
+      point.energy = problem.local_fit(y, fit);
       if (!result.energies.empty()) result.energies.back() = point.energy;
       result.warnings.push_back("the last iterates were worse than an earlier one; returned the best");
     }
   }
-  std::ostringstream msg;
-  msg << "not converged: stopped at max_iterations (" << s.max_iterations << "); ";
-  if (std::isfinite(result.distance_estimate))
-    msg << "the last Newton step was " << result.distance_estimate << " of the bounding-box diagonal (tolerance "
-        << s.tolerance << ")";
-  else
-    msg << "the distance to the fixed point is unknown (tolerance " << s.tolerance << " of the bounding-box diagonal)";
-  result.warnings.push_back(msg.str());
+  result.warnings.push_back(
+      not_converged_warning(s.max_iterations, result.distance_estimate, s.tolerance, "the last Newton step was"));
   return NewtonEnd::Stopped;
 }
 

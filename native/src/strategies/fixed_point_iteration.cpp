@@ -3,10 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include "edgedeform/claim_check.h"
-#include "edgedeform/deformer.h"
 #include "edgedeform/errors.h"
 
 namespace edgedeform {
@@ -28,7 +26,7 @@ void PlainAndersonMemory::restart(int nf, int window) {
 }
 
 // The fixed-point iteration x -> G(x) = global(local(x)). y is the current point, with fit =
-// its local step unless `fitted` is false, as on the first step of a cold start; the
+// its local step unless point.fitted is false, as on the first step of a cold start; the
 // Anderson history lives in the memory.
 //
 // Each iteration takes one global step from y, g = G(y), and measures r = |g - y| / diag.
@@ -47,11 +45,9 @@ void PlainAndersonMemory::restart(int nf, int window) {
 //   reject most useful steps, since Anderson residuals are not monotone (dino lift, lambda
 //   0.5: 323 of 332 steps rejected, more iterations than plain). Both safeguards only choose
 //   between points; the fixed points are those of G.
-void plain_anderson_solve(FixedPointProblem& problem, const PlainAndersonSettings& settings,
-                          PlainAndersonPoint point, SolveResult& result) {
+void plain_anderson_solve(FixedPointProblem& problem, const PlainAndersonSettings& settings, IterationPoint& point,
+                          LocalFit& fit, PlainAndersonMemory& m, SolveResult& result) {
   Eigen::MatrixXd& y = point.y;
-  LocalFit& fit = point.fit;
-  PlainAndersonMemory& m = point.memory;
   const bool accelerate = settings.accelerate;
   const bool descent = settings.descent;
   const Eigen::Index dim = y.size();
@@ -60,10 +56,7 @@ void plain_anderson_solve(FixedPointProblem& problem, const PlainAndersonSetting
   result.distance_estimate = std::numeric_limits<double>::infinity();
 
   for (int k = 0; k < settings.max_iterations; ++k) {
-    if (problem.interrupt_requested()) {
-      point.fitted = false;  // the caller's fit is not kept: the next solve starts afresh
-      throw SolveInterrupted("solve interrupted");
-    }
+    if (problem.interrupt_requested()) throw SolveInterrupted("solve interrupted");
     problem.global_step(fit, m.rhs, m.g);
     ++result.iterations;
     const double r = max_row_distance(m.g, y) / settings.diag;
@@ -135,15 +128,9 @@ void plain_anderson_solve(FixedPointProblem& problem, const PlainAndersonSetting
     point.fitted = true;
     result.energies.push_back(fit.energy);
   }
-  std::ostringstream msg;
-  msg << "not converged: stopped at max_iterations (" << settings.max_iterations << "); ";
-  if (std::isfinite(result.distance_estimate))
-    msg << "the estimated distance to the fixed point is " << result.distance_estimate
-        << " of the bounding-box diagonal (tolerance " << settings.tolerance << ")";
-  else
-    msg << "the distance to the fixed point is unknown: the iteration has not been seen to contract "
-           "(tolerance " << settings.tolerance << " of the bounding-box diagonal)";
-  result.warnings.push_back(msg.str());
+  result.warnings.push_back(not_converged_warning(settings.max_iterations, result.distance_estimate, settings.tolerance,
+                                                  "the estimated distance to the fixed point is",
+                                                  "the iteration has not been seen to contract"));
 }
 
 }  // namespace edgedeform

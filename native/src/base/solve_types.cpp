@@ -1,0 +1,39 @@
+#include "edgedeform/solve_types.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace edgedeform {
+
+const char* acceleration_name(Acceleration a) {
+  switch (a) {
+    case Acceleration::Newton: return "newton";
+    case Acceleration::Anderson: return "anderson";
+    case Acceleration::None: break;
+  }
+  return "none";
+}
+
+Acceleration parse_acceleration(const std::string& name) {
+  if (name == "newton") return Acceleration::Newton;
+  if (name == "anderson") return Acceleration::Anderson;
+  if (name == "none") return Acceleration::None;
+  throw std::invalid_argument("acceleration must be \"newton\", \"anderson\" or \"none\", got \"" + name + "\"");
+}
+
+std::string not_converged_warning(int max_iterations, double distance_estimate, double tolerance,
+                                  const std::string& estimate_is, const std::string& unknown_because) {
+  std::ostringstream msg;
+  msg << "not converged: stopped at max_iterations (" << max_iterations << "); ";
+  if (std::isfinite(distance_estimate)) {
+    msg << estimate_is << " " << distance_estimate << " of the bounding-box diagonal (tolerance " << tolerance << ")";
+  } else {
+    msg << "the distance to the fixed point is unknown";
+    if (!unknown_because.empty()) msg << ": " << unknown_because;
+    msg << " (tolerance " << tolerance << " of the bounding-box diagonal)";
+  }
+  return msg.str();
+}
+
+}  // namespace edgedeform
