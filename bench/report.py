@@ -46,8 +46,6 @@ PAGES = {
          "live_settle.json", "bench/bench_live_settle.py", "bench_live_settle:markdown"),
     ]),
     "benchmarks_solver.md": ("Reaching the fixed point: Newton–Krylov and the slow modes", [
-        ("Newton–Krylov against Anderson and the plain method on the large meshes",
-         "newton.json", "bench/bench_newton.py", "bench_newton:markdown"),
         ("Which coarse space carries the soft modes? (Newton–Krylov diagnostics)",
          "newton_diagnostics.json", "bench/bench_newton_diagnostics.py", "bench_newton_diagnostics:table"),
         ("Does blending the patches capture more of the soft modes?",
