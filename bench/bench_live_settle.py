@@ -14,16 +14,26 @@ of 1e-10 diag). Not modelled: writing the shape into Blender's mesh each tick.
 
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_live_settle.py
         [--mesh koala] [--lam 0.5] [--domain edge] [--drag-ticks 30]
-        [--predictor none,coarse] [--json PATH]
+        [--methods anderson,newton] [--json PATH]
 
---predictor coarse: each tick whose targets moved starts with the core's coarse predictor
-(SolveOptions::coarse_predictor, 200 patches); a comma-separated list runs a row for each.
+--methods: the acceleration every tick's solve asks for (Deformer.solve's `acceleration`;
+anderson is the package's default, what the add-on's Automatic gets); a comma-separated
+list runs a row for each. Newton's Anderson lead-in (NewtonOptions.lead_in) counts the
+iterations since the targets were set, so its Newton steps come once the mouse stands still.
 --claims checked,unchecked: "checked" is the add-on's policy (settle.py: a still tick's solve
 checks a convergence claim, verify_claims); "unchecked" replays the policy before that
 check (a row each).
 
 Prints a table, writes bench/results/live_settle.json. The reference for the 50k koala
 takes thousands of iterations; it is cached in bench/results/cache/ (not committed).
+
+The JSON: {"machine", "command", "rows": [...]}, a row per mesh, λ, method and claims:
+mesh, vertices, domain, lambda, method, claims, threads (OMP_NUM_THREADS), rate_memory,
+finished (date), reference_iterations, reference_residual;
+drag: ticks, iterations, newton_steps, core_ms, distance_when_stopped (/ diag);
+settle: ticks, iterations, newton_steps, core_ms, wall_ms, cpu_ms, longest_tick_ms,
+claim_checks, refused_claims, converged, estimate, distance (/ diag), ms_per_iteration.
+core_ms is the core's own time: local + rhs + solve, and Newton's assembly and factorization.
 """
 
 import argparse
@@ -46,7 +56,6 @@ from machine import machine_info  # noqa: E402
 
 MESHES = {"koala": "koala.obj", "spot": "spot_low_resolution.obj", "dino": "cgal_dino.off",
           "spot11k": "spot.obj"}
-PREDICTOR_PATCHES = 200        # the coarse space of --predictor coarse
 TIMER_MS = 1000.0 / 60.0       # Live's timer (op_common.ModalTool)
 # The add-on's settle policy (bpy-free): the tick's time budget, "settled", the give-up.
 _spec = importlib.util.spec_from_file_location(
@@ -71,25 +80,24 @@ class TickResult:
         self.local_ms = sum(r.local_ms for r in results)
         self.rhs_ms = sum(r.rhs_ms for r in results)
         self.solve_ms = sum(r.solve_ms for r in results)
-        self.coarse_ms = sum(r.coarse_ms for r in results)
-        self.predictions_kept = sum(r.predictions_kept for r in results)
+        self.newton_ms = sum(r.assemble_ms + r.newton_factor_ms for r in results)
+        self.newton_steps = sum(r.newton_steps for r in results)
         self.claim_checks = sum(r.claim_checks for r in results)
         self.refused_claims = sum(r.refused_claims for r in results)
 
 
 def core_ms(r):
-    return float(r.local_ms + r.rhs_ms + r.solve_ms + r.coarse_ms)
+    return float(r.local_ms + r.rhs_ms + r.solve_ms + r.newton_ms)
 
 
-def tick(d, targets, budget, moving=False, predictor="none", claims="checked"):
+def tick(d, targets, budget, moving=False, method="anderson", claims="checked"):
     """One Live tick by the add-on's policy; claims "unchecked": its solves never check."""
     chunks = []
-    options = {} if predictor == "none" else {"coarse_predictor": True,
-                                               "coarse_patches": PREDICTOR_PATCHES}
 
     def solve(n, check_claims):
         chunks.append(d.solve(targets, max_iterations=n, tolerance=TOLERANCE, warm_start=True,
-                              verify_claims=check_claims and claims == "checked", **options))
+                              acceleration=method,
+                              verify_claims=check_claims and claims == "checked"))
         return chunks[-1]
     if moving:
         budget.changed()
@@ -99,7 +107,7 @@ def tick(d, targets, budget, moving=False, predictor="none", claims="checked"):
     return TickResult(chunks), wall
 
 
-def run(mesh, domain, lam, drag_ticks, log, predictor="none", claims="checked"):
+def run(mesh, domain, lam, drag_ticks, log, method="anderson", claims="checked"):
     import edgedeform as ed
     from edgedeform.mesh_files import read_mesh
     V, F = read_mesh(mesh_path(MESHES[mesh]))
@@ -116,22 +124,23 @@ def run(mesh, domain, lam, drag_ticks, log, predictor="none", claims="checked"):
     d.set_stiffness(lam)
     budget = settle.Settle(limit=10 ** 9)   # (this replay stops at MAX_SETTLE_TICKS)
     r = d.solve(V[handles], max_iterations=1, tolerance=TOLERANCE, warm_start=False)  # bind
-    drag = {"ticks": drag_ticks, "iterations": 0, "core_ms": 0.0, "predictions_kept": 0}
+    drag = {"ticks": drag_ticks, "iterations": 0, "newton_steps": 0, "core_ms": 0.0}
     for k in range(1, drag_ticks + 1):       # the mouse moves: new targets every tick
         r, _ = tick(d, V[handles] + (k / drag_ticks) * (final - V[handles]), budget, True,
-                    predictor, claims)
+                    method, claims)
         drag["iterations"] += r.iterations
+        drag["newton_steps"] += r.newton_steps
         drag["core_ms"] += core_ms(r)
-        drag["predictions_kept"] += r.predictions_kept
     drag["distance_when_stopped"] = float(
         np.linalg.norm(np.asarray(r.positions) - X_ref, axis=1).max() / dg)
-    rest = {"ticks": 0, "iterations": 0, "core_ms": 0.0, "wall_ms": 0.0, "cpu_ms": 0.0,
+    rest = {"ticks": 0, "iterations": 0, "newton_steps": 0, "core_ms": 0.0, "wall_ms": 0.0, "cpu_ms": 0.0,
             "longest_tick_ms": 0.0, "claim_checks": 0, "refused_claims": 0}
     c0 = time.process_time()
     while rest["ticks"] < MAX_SETTLE_TICKS:  # the mouse stopped
-        r, wall = tick(d, final, budget, claims=claims)
+        r, wall = tick(d, final, budget, method=method, claims=claims)
         rest["ticks"] += 1
         rest["iterations"] += r.iterations
+        rest["newton_steps"] += r.newton_steps
         rest["core_ms"] += core_ms(r)
         rest["wall_ms"] += max(TIMER_MS, wall)
         rest["longest_tick_ms"] = max(rest["longest_tick_ms"], wall)
@@ -147,7 +156,7 @@ def run(mesh, domain, lam, drag_ticks, log, predictor="none", claims="checked"):
     rest["distance"] = float(np.linalg.norm(np.asarray(r.positions) - X_ref, axis=1).max() / dg)
     rest["ms_per_iteration"] = rest["core_ms"] / max(1, rest["iterations"])
     out = {"mesh": mesh, "vertices": len(V), "domain": domain, "lambda": lam,
-           "predictor": predictor, "claims": claims,
+           "method": method, "claims": claims,
            "threads": os.environ.get("OMP_NUM_THREADS", "default"), "rate_memory": RATE_MEMORY,
            "finished": machine_info()["date"],
            "reference_iterations": ref_its, "reference_residual": ref_res,
@@ -169,12 +178,11 @@ def markdown(result):
         "solve's fixed point, / diag (reference: bench_convergence.py's long run, as for "
         "the koala row there; its iterations and final residual are in the JSON).",
         "",
-        "Predictor coarse: each drag tick starts with the core's coarse predictor (one two-level "
-        f"Newton step over {PREDICTOR_PATCHES} affine patches, `coarse_predictor=True`); "
-        "'kept': predictions kept during the drag (it needs 3 iterations in a tick; the 50k "
-        "koala's ticks afford 2, so it never runs there); 'drag core s' includes its coarse "
-        "assembly. A true distance in bold is a settle claimed farther than the tolerance "
-        f"({TOLERANCE:g}) from the reference.",
+        "Method: the acceleration of every tick's solve (anderson: the package's default). "
+        "Newton's Anderson lead-in counts from the last move of the targets, so its Newton "
+        "steps (drag / settle) come after the mouse stops; 'core s' and 'core ms/it' include "
+        "its assembly and factorization of the Newton matrix. A true distance in bold is a "
+        f"settle claimed farther than the tolerance ({TOLERANCE:g}) from the reference.",
         "",
         "Claims checked (the add-on's policy, record 0027): a tick whose targets stand still "
         "asks the core to check a convergence claim by 30 Arnoldi steps on J_G "
@@ -184,7 +192,7 @@ def markdown(result):
         "at λ 0.5 the koala's reference is itself no fixed point (its run ends at a residual "
         "of about 2e-6; record 0016), so its distance there is no verdict.",
         "",
-        "| mesh | vertices | domain | λ | predictor | claims | kept | drag ticks | drag core s | "
+        "| mesh | vertices | domain | λ | method | claims | Newton steps | drag ticks | drag core s | "
         "distance when stopped | settle ticks | settle iterations | checks (refused) | "
         "longest tick ms | core ms/it | settle wall s | converged | estimate | true distance |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
@@ -193,8 +201,8 @@ def markdown(result):
         s = r["settle"]
         lines.append(
             f"| {r['mesh']} | {r['vertices']:,} | {r['domain']} | {r['lambda']:g} | "
-            f"{r['predictor']} | {r['claims']} | "
-            f"{r['drag'].get('predictions_kept', 0)} | "
+            f"{r['method']} | {r['claims']} | "
+            f"{r['drag']['newton_steps']} / {s['newton_steps']} | "
             f"{r['drag']['ticks']} | {r['drag']['core_ms'] / 1e3:.2f} | "
             f"{r['drag']['distance_when_stopped']:.1e} | {s['ticks']} | {s['iterations']} | "
             + f"{s['claim_checks']} ({s['refused_claims']}) | {s['longest_tick_ms']:.0f} | "
@@ -207,7 +215,7 @@ def markdown(result):
         if r["vertices"] >= 40000:
             s = r["settle"]
             met = s["converged"] and s["wall_ms"] <= 1000.0
-            verdicts.append(f"{r['mesh']} λ {r['lambda']:g}, predictor {r.get('predictor', 'none')}, "
+            verdicts.append(f"{r['mesh']} λ {r['lambda']:g}, {r['method']}, "
                             f"claims {r['claims']}: "
                             f"{'settled' if s['converged'] else 'not settled'} after "
                             f"{s['wall_ms'] / 1e3:.1f} s ({s['iterations']} iterations) — "
@@ -224,7 +232,8 @@ def main(argv=None):
     ap.add_argument("--domain", default="edge")
     ap.add_argument("--lam", default="0.5", help="stiffness λ (comma-separated: a row each)")
     ap.add_argument("--drag-ticks", type=int, default=30)
-    ap.add_argument("--predictor", default="none", help="none,coarse (comma-separated)")
+    ap.add_argument("--methods", default="anderson",
+                    help="accelerations of the ticks' solves, a row each (comma-separated: anderson,newton)")
     ap.add_argument("--claims", default="checked",
                     help="checked (the add-on's policy: still ticks check a convergence claim "
                          "by Arnoldi on J_G, verify_claims), unchecked (comma-separated)")
@@ -233,10 +242,14 @@ def main(argv=None):
     for claims in args.claims.split(","):
         if claims not in ("checked", "unchecked"):
             ap.error(f"--claims: {claims!r} is neither checked nor unchecked")
-    rows = [run(m, args.domain, float(lam), args.drag_ticks, lambda s: print(s, flush=True), p,
+    from edgedeform import ACCELERATIONS
+    for method in args.methods.split(","):
+        if method not in ACCELERATIONS:
+            ap.error(f"--methods: {method!r} is none of {', '.join(ACCELERATIONS)}")
+    rows = [run(m, args.domain, float(lam), args.drag_ticks, lambda s: print(s, flush=True), method,
                 c)
             for m in args.mesh.split(",") for lam in args.lam.split(",")
-            for p in args.predictor.split(",") for c in args.claims.split(",")]
+            for method in args.methods.split(",") for c in args.claims.split(",")]
     result = {"machine": machine_info(), "rows": rows,
               "command": "bench/bench_live_settle.py " + " ".join(argv or sys.argv[1:])}
     out = Path(args.json)

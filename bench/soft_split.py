@@ -7,7 +7,7 @@ large on the soft modes (mu near 1), about 1 on the stiff ones. This module spli
 difference s into its part along the soft modes and the rest, and applies (I - J)^-1:
 
 - the soft modes: the k largest eigenpairs of the analytic J_G at x* (ARPACK, through
-  bench_newton_diagnostics.spectrum: converged to 1e-6, where the script's own 100-step
+  newton_model.spectrum: converged to 1e-6, where the script's own 100-step
   finite-difference Arnoldi resolves only the first few of the koala's cluster of
   eigenvalues above 0.99);
 - the projection (SoftProjection): at lambda = 1, J_G = A^-1 D with A and D symmetric, so J
@@ -21,7 +21,7 @@ difference s into its part along the soft modes and the rest, and applies (I - J
   far from spectral even at lambda = 1 (its two parts, each multiplied by (I - J)^-1, come
   out several times larger than their sum: they cancel; record 0028), so it is only
   measured beside, for the slowest mode. A comes from the graph
-  (bench_newton_diagnostics.system_matrix) and is checked against the core's
+  (newton_model.system_matrix) and is checked against the core's
   K v = A (I - J) v before use;
 - (I - J)^-1 by GMRES on (I - J) w = y with the analytic J products (each a back-substitution
   with A's factor, so the system is A-preconditioned), in the A inner product at lambda = 1
@@ -150,7 +150,7 @@ def soft_eigenpairs(d, X, count, log):
     ARPACK returns them), vectors as (count, #free, 3), each turned so that its largest entry
     is real and positive (ARPACK's sign is arbitrary; a step along +v is then the same step
     in every run), and the spectrum's summary row."""
-    from bench_newton_diagnostics import spectrum, to_points
+    from newton_model import spectrum, to_points  # SciPy's ARPACK: only when measuring
     nf = len(d.free_vertices)
     mu, vecs, row = spectrum(d, X, nf, count, log)
     largest = vecs[np.abs(vecs).argmax(axis=0), np.arange(vecs.shape[1])]
@@ -162,12 +162,12 @@ def soft_eigenpairs(d, X, count, log):
 
 def projection_at(d, X, lam, vectors, rng_seed=0):
     """The A-orthogonal SoftProjection onto the span of `vectors` (see the module's
-    docstring), after A (bench_newton_diagnostics.system_matrix at this uniform lambda) is
+    docstring), after A (newton_model.system_matrix at this uniform lambda) is
     checked against the core's K v = A (v - J v); and how far J is from self-adjoint in A's
     inner product, |<u, J w>_A - <J u, w>_A| / (|J u|_A |w|_A) on random u, w (0 to round-off
     at lambda = 1)."""
     basis = np.concatenate([vectors.real, vectors.imag[np.abs(vectors.imag).max(axis=(1, 2)) > 0]])
-    from bench_newton_diagnostics import a_identity_error, system_matrix
+    from newton_model import a_identity_error, system_matrix
     fv = np.asarray(d.free_vertices)
     A3, A = system_matrix(d, fv, lam)
     rng = np.random.default_rng(rng_seed)

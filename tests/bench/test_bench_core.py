@@ -18,3 +18,16 @@ def test_one_row_with_every_timing(tmp_path):
     assert result["commands"] and result["build_info"]["solver"]
     import bench_core
     assert "| 1k | spot_low_resolution.obj | 829 | edge | 0.5 |" in bench_core.markdown(result)
+
+
+def test_peak_memory_of_anderson_and_newton(tmp_path):
+    """--peak: one fresh process per method; Newton's peak holds a factor of its matrix."""
+    out = tmp_path / "core.json"
+    run("bench_core.py", "--peak", "--sizes", "1k", "--domains", "edge", "--lambdas", "0.5",
+        "--peak-methods", "anderson,newton", "--json", out)
+    anderson, newton = load(out)["peak_memory"]
+    assert (anderson["method"], newton["method"]) == ("anderson", "newton")
+    assert finite(anderson["peak_mb"], newton["peak_mb"]) and anderson["peak_mb"] > 0
+    assert newton["newton_factorizations"] >= 1
+    import bench_core
+    assert "newton (fresh process:" in bench_core.targets([], load(out)["peak_memory"])

@@ -119,19 +119,6 @@ def test_split_of_the_packages_map(spot):
     assert np.abs(w - v / (1 - mu)).max() < 1e-5 * np.abs(w).max()
 
 
-def test_system_matrix_below_lambda_one():
-    """The A of a split at lambda < 1 is the core's: 2 lambda N^T L N + (1 - lambda) (LN)^T LN."""
-    import edgedeform as ed
-    from bench_newton_diagnostics import a_identity_error, system_matrix
-    d, targets, free, _ = bench_spectrum.problem(ed, ("spot", "lift", "edge", 0.5))
-    X = np.asarray(d.solve(targets, max_iterations=20).positions)
-    fv = np.asarray(d.free_vertices)
-    A3, _ = system_matrix(d, fv, 0.5)
-    assert a_identity_error(d, X, A3, len(fv), np.random.default_rng(0)) < 1e-12
-    A3, _ = system_matrix(d, fv, 1.0)  # the wrong lambda is caught
-    assert a_identity_error(d, X, A3, len(fv), np.random.default_rng(0)) > 1e-3
-
-
 def test_split_option_writes_its_table(tmp_path):
     """--split: c_soft is a constant over the two steps, the split at lambda 1 is spectral
     (the commutator is round-off), a Newton step from 3e-4 of the diagonal along the slowest

@@ -88,7 +88,7 @@ def interrupted_solve(acceleration):
 
 @pytest.mark.parametrize("acceleration", ["anderson", "newton"])
 def test_keyboard_interrupt_stops_a_long_solve_and_the_deformer_still_works(acceleration):
-    """Newton too: its Krylov products, line search and coarse assembly ask."""
+    """Newton too: its Anderson lead-in, line search and Newton steps ask."""
     report, _ = interrupted_solve(acceleration)
     assert report["handles_on_targets"] and report["finite"] and report["iterations"] >= 1
 
