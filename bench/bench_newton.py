@@ -16,14 +16,18 @@ Methods:
   indefinite term projected (the per-node positive model); straight line search;
 - d1-ladder: no lead-in; only the terms below a level that factors projected; straight;
 - d1-lifted: no lead-in; the ladder, and the trials lifted into the fit.
-(At λ < 1 the d1 methods are all Newton on K's LU from the start; only d1-full runs there.)
+Newton steps are taken only at λ = 1 (record 0029): below it every method here runs Anderson,
+so the cells at λ < 1 in bench/results/newton.json keep the retired LU Newton's rows of the
+run that decided it.
 
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_newton.py \\
         [--cells koala:lift:1,spot11k:lift:0.5] [--methods anderson,newton] [--tolerances 1e-3,1e-6] \\
         [--max-iterations 4000] [--out bench/results/newton.json]
+    bench/bench_newton.py --plot-from bench/results/newton.json   # only the plot, from a JSON
 
-Prints a table and writes the JSON (with the machine and its load); bench/report.py puts the
-table into docs/benchmarks_solver.md.
+Prints a table and writes the JSON (with the machine and its load) and, with matplotlib, a
+plot next to it (.png: each method's time over Anderson's per cell); bench/report.py puts
+the table and the plot into docs/benchmarks_solver.md.
 """
 
 import argparse
@@ -109,7 +113,48 @@ def run_cell(ed, cell, methods, tolerances, max_iterations, log):
     return rows
 
 
-def markdown(result):
+def plot(result, path):
+    """Each method's wall time over Anderson's, per cell and tolerance (log scale), when
+    matplotlib is installed; False when no plot was written."""
+    try:
+        import matplotlib
+    except ImportError:
+        print("no matplotlib: newton plot not written", flush=True)
+        return False
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    anderson = {(r["mesh"], r["lambda"], r["tolerance"]): r["wall_s"] for r in result["rows"] if r["method"] == "anderson"}
+    keys = sorted({(r["mesh"], r["lambda"]) for r in result["rows"]}, key=lambda k: (k[1], k[0]))
+    methods = [m for m in dict.fromkeys(r["method"] for r in result["rows"]) if m != "anderson"]
+    fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), sharey=True)
+    width = 0.8 / max(1, len(methods))
+    for ax, tol in zip(axes, (1e-3, 1e-6)):
+        for j, method in enumerate(methods):
+            xs, ys, hatches = [], [], []
+            for i, (mesh, lam) in enumerate(keys):
+                row = next((r for r in result["rows"] if (r["mesh"], r["lambda"], r["tolerance"], r["method"]) ==
+                            (mesh, lam, tol, method)), None)
+                if row is None or (mesh, lam, tol) not in anderson:
+                    continue
+                xs.append(i + (j - (len(methods) - 1) / 2) * width)
+                ys.append(row["wall_s"] / anderson[(mesh, lam, tol)])
+                hatches.append("" if row["converged"] else "xx")
+            bars = ax.bar(xs, ys, width, label=method)
+            for bar, hatch in zip(bars, hatches):
+                bar.set_hatch(hatch)
+        ax.axhline(1.0, color="k", lw=1, ls=":")
+        ax.set_yscale("log")
+        ax.set_xticks(range(len(keys)))
+        ax.set_xticklabels([f"{m}\nλ {lam:g}" for m, lam in keys], fontsize=8)
+        ax.set_title(f"to {tol:g} of the diagonal (hatched: not converged)")
+    axes[0].set_ylabel("wall time / Anderson's (same run)")
+    axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    return True
+
+
+def markdown(result, png_rel="../bench/results/newton.png"):
     """One row per cell, method and tolerance; the time relative to Anderson's in the same run."""
     anderson = {(r["mesh"], r["edit"], r["domain"], r["lambda"], r["tolerance"]): r["wall_s"]
                 for r in result["rows"] if r["method"] == "anderson"}
@@ -124,6 +169,10 @@ def markdown(result):
                      f"{r['tolerance']:g} | {r['wall_s']:.1f} | {ratio} | {r['iterations']} | {r['newton_steps']} | "
                      f"{r['factorizations']} | {'yes' if r['converged'] else 'no'} | "
                      f"{r['distance_to_reference']:.1e} | {dE:+.1e} |")
+    if result.get("note"):
+        lines += ["", result["note"]]
+    if png_rel:
+        lines += ["", f"![each method's time over Anderson's, per cell]({png_rel})"]
     return "\n".join(lines)
 
 
@@ -134,7 +183,11 @@ def main(argv=None):
     ap.add_argument("--tolerances", default="1e-3,1e-6")
     ap.add_argument("--max-iterations", type=int, default=MAX_ITERATIONS)
     ap.add_argument("--out", default=str(HERE / "results" / "newton.json"))
+    ap.add_argument("--plot-from", help="write only the plot of this JSON (next to it, .png)")
     args = ap.parse_args(argv)
+    if args.plot_from:
+        plot(json.loads(Path(args.plot_from).read_text()), Path(args.plot_from).with_suffix(".png"))
+        return
     import edgedeform as ed
     methods = [m for m in args.methods.split(",") if m]
     unknown = [m for m in methods if m not in METHODS]
@@ -152,7 +205,8 @@ def main(argv=None):
         Path(args.out).write_text(json.dumps(result, indent=1) + "\n")
     result["machine_end"] = machine_info()
     Path(args.out).write_text(json.dumps(result, indent=1) + "\n")
-    print(markdown(result))
+    plot(result, Path(args.out).with_suffix(".png"))
+    print(markdown(result, png_rel=None))
 
 
 if __name__ == "__main__":

@@ -65,7 +65,7 @@ struct GridProblem final : FixedPointProblem {
     return std::make_unique<FixedPointLinearization>(sys, as, fit, nodes, projection);
   }
   bool factor_newton(const LocalFit& fit, double projection) override {
-    return newton.factor(FixedPointLinearization(sys, as, fit, nodes, projection), as.term_lambda.minCoeff() >= 1.0);
+    return newton.factor(FixedPointLinearization(sys, as, fit, nodes, projection));
   }
   void solve_newton(const Eigen::MatrixXd& b, Eigen::MatrixXd& delta) override { newton.solve(b, delta); }
   bool interrupt_requested() override { return interrupt_after >= 0 && asked++ >= interrupt_after; }

@@ -222,14 +222,20 @@ def test_the_lead_in_is_anderson_and_counted_across_short_calls():
     assert r.converged and steps > 0 and iterations >= 20
 
 
-def test_newton_gives_way_to_anderson_where_its_steps_stop_helping():
-    """The dino lift at lambda 0.5: J_G is inexact at a few terms and Newton's steps stall
-    near 1e-6 without a lead-in (record 0029): the solve goes on with Anderson and still converges."""
-    d, V, F, t = _deformer(DINO, "edge", 0.5)
-    r = d.solve(t, acceleration="newton", tolerance=1e-6, warm_start=False, max_iterations=4000,
-                newton=ed.NewtonOptions(lead_in=0))
-    assert r.newton_fallbacks == 1 and r.converged
-    assert np.linalg.norm(r.positions - _reference(d, t), axis=1).max() / diag(V) <= 2e-6
+@pytest.mark.parametrize("stiffness", (0.5, "painted"))
+def test_below_lambda_1_newton_is_anderson(stiffness):
+    """Newton steps are taken only where lambda = 1 on every term: below it the LU Newton lost
+    to Anderson everywhere and failed on the koala (record 0029), so "newton" runs Anderson,
+    bit for bit, and says so by taking no Newton step."""
+    results = {}
+    for method in ("newton", "anderson"):
+        d, V, F, t = _deformer(DINO, "edge", 1.0)
+        d.set_stiffness(np.linspace(0.5, 1.0, len(V)) if stiffness == "painted" else stiffness)
+        results[method] = d.solve(t, acceleration=method, tolerance=1e-6, warm_start=False)
+    newton, anderson = results["newton"], results["anderson"]
+    assert newton.converged and newton.newton_steps == 0 and newton.newton_factorizations == 0
+    assert np.array_equal(newton.positions, anderson.positions)
+    assert newton.iterations == anderson.iterations
 
 
 def test_live_settle_with_newton_reaches_the_cold_fixed_point():

@@ -27,9 +27,8 @@ class FixedPointProblem {
   // With `projection` (lambda = 1 only): the terms below it projected (linearize_fit; 1: the
   // per-node positive model).
   virtual std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit, double projection) = 0;
-  // Assembles the Newton matrix K of that linearization and factors it: Cholesky where
-  // lambda = 1 on every term (false when K is not positive definite), LU otherwise (false
-  // when singular). Counts its time and factorizations in the solve's result.
+  // Assembles the Newton matrix K of that linearization and factors it (Cholesky, lambda = 1
+  // on every term): false when K is not positive definite. Counts its time and factorizations in the solve's result.
   virtual bool factor_newton(const LocalFit& fit, double projection) = 0;
   // delta := K^-1 b (#free x 3) with the last factorization.
   virtual void solve_newton(const Eigen::MatrixXd& b, Eigen::MatrixXd& delta) = 0;

@@ -1,7 +1,8 @@
 // The Newton matrix of the current operators, assembled and factored for direct Newton steps
 // (docs/design.md §4, "Reaching the fixed point"): its pattern and fill-reducing order made
 // once per set of operators, the numeric factorization at every step: CHOLMOD's supernodal
-// LL^T where lambda = 1 on every term (K symmetric), UMFPACK's LU otherwise.
+// LL^T (Newton steps are taken where lambda = 1 on every term, where K is the energy's
+// Hessian: docs/decisions/0029).
 #pragma once
 
 #include <memory>
@@ -10,7 +11,6 @@
 #include "edgedeform/fixed_point_linearization.h"
 #include "edgedeform/newton_matrix.h"
 #include "edgedeform/sparse_cholesky.h"
-#include "edgedeform/sparse_lu.h"
 
 namespace edgedeform {
 
@@ -19,16 +19,16 @@ class NewtonFactor {
   // The operators changed (constraints or stiffness): the next factor() makes the pattern anew.
   void operators_changed() { matrix_.reset(); }
 
-  // Assembles K at `lin` and factors it: LL^T when `symmetric` (false when K is not positive
-  // definite), else LU (false when singular). The pattern is made on the first call after
-  // operators_changed(); `lin` must be of the operators of that first call.
-  bool factor(const FixedPointLinearization& lin, bool symmetric);
+  // Assembles K at `lin` and factors it: LL^T, false when K is not positive definite. The
+  // pattern is made on the first call after operators_changed(); `lin` must be of the
+  // operators of that first call.
+  bool factor(const FixedPointLinearization& lin);
   // delta := K^-1 b, b and delta (#free x 3) as the strategies hold them.
   void solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& delta);
 
-  int analyses() const { return cholesky_.analyses() + lu_.analyses(); }
-  int factorizations() const { return cholesky_.factorizations() + lu_.factorizations(); }
-  double factor_nonzeros() const { return symmetric_ ? cholesky_.factor_nonzeros() : lu_.factor_nonzeros(); }
+  int analyses() const { return cholesky_.analyses(); }
+  int factorizations() const { return cholesky_.factorizations(); }
+  double factor_nonzeros() const { return cholesky_.factor_nonzeros(); }
   // Milliseconds of the last factor(): assembling K (pattern included when new), factoring.
   double assemble_ms() const { return assemble_ms_; }
   double factor_ms() const { return factor_ms_; }
@@ -37,8 +37,6 @@ class NewtonFactor {
   std::unique_ptr<NewtonMatrix> matrix_;
   std::vector<int> order_;  // per coordinate, from a fill-reducing order of the vertices
   SparseCholesky cholesky_;
-  SparseLU lu_;
-  bool symmetric_ = true;   // which factor the last factor() made
   double assemble_ms_ = 0.0, factor_ms_ = 0.0;
 };
 

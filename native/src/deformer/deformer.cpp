@@ -151,7 +151,7 @@ struct Deformer::StepProblem final : FixedPointProblem {
   }
   bool factor_newton(const LocalFit& fit, double projection) override {
     const FixedPointLinearization lin(*d.system_, *d.assembled_, fit, d.node_positions_, projection);
-    const bool ok = d.newton_factor_.factor(lin, d.all_rigid_);  // K is symmetric at lambda = 1
+    const bool ok = d.newton_factor_.factor(lin);
     ++result.newton_factorizations;
     result.assemble_ms += d.newton_factor_.assemble_ms();
     result.newton_factor_ms += d.newton_factor_.factor_ms();

@@ -26,6 +26,12 @@ void Deformer::iterate_plain_anderson(FixedPointProblem& problem, const SolveOpt
 
 void Deformer::iterate_newton(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit,
                               SolveResult& result) {
+  if (!all_rigid_) {
+    // Newton steps only where lambda = 1 on every term; below it Anderson won every
+    // measurement, and the LU Newton failed on the koala (docs/decisions/0029).
+    iterate_plain_anderson(problem, options, options.max_iterations, fit, result);
+    return;
+  }
   IterationState& it = iter_;
   const int lead_in_left = options.newton.lead_in - it.lead_in_iterations;
   if (!it.newton_valid && lead_in_left > 0) {
@@ -49,7 +55,6 @@ void Deformer::iterate_newton(FixedPointProblem& problem, const SolveOptions& op
   settings.max_iterations = options.max_iterations;
   settings.tolerance = options.tolerance;
   settings.diag = diag_;
-  settings.descent = all_rigid_;
   settings.ladder = options.newton.ladder;
   settings.lifted = options.newton.lifted;
   result.energies.reserve(static_cast<size_t>(options.max_iterations));

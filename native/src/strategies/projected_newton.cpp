@@ -23,12 +23,6 @@ constexpr double kShortestCut = 0.1, kLongestCut = 0.5;
 constexpr int kFallbackSteps = 3;
 // Line searches failed in a row before the solve gives up on Newton.
 constexpr int kFailuresBeforeGivingUp = 2;
-// lambda < 1: the solve also gives up when kStallSteps Newton steps did not bring |A F| below
-// kStallRatio of where they started: where J_G is inexact (a term whose spin its unweighted
-// arcs set, local_fit_derivative.h) cut steps pass the line search but barely move
-// (measured: the dino lift at lambda 0.5 stalled at |A F| 2e-5 for 370 steps).
-constexpr int kStallSteps = 3;
-constexpr double kStallRatio = 0.5;
 
 double frobenius_dot(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   double sum = 0.0;  // a fixed order
@@ -47,11 +41,10 @@ bool tracing() {
   return on;
 }
 
-// The direction: K factored with as little projected as factors (lambda = 1: from the
-// memory's level up), K itself at lambda < 1. False when nothing factors.
+// The direction: K factored with as little projected as factors, from the memory's level
+// up. False when nothing factors.
 bool factor_direction(FixedPointProblem& problem, const LocalFit& fit, const NewtonSettings& s, NewtonMemory& memory,
                       const std::function<void()>& stop_if_asked) {
-  if (!s.descent) return problem.factor_newton(fit, 0.0);
   int& level = memory.level;
   bool factored = problem.factor_newton(fit, kProjectionLevels[level]);
   while (!factored && level + 1 < kProjectionLevelCount) {
@@ -62,26 +55,16 @@ bool factor_direction(FixedPointProblem& problem, const LocalFit& fit, const New
   return factored;
 }
 
-// lambda < 1: true when the last kStallSteps Newton steps did not halve |A F|.
-bool stalled(NewtonMemory& memory, double b_norm) {
-  auto& recent = memory.recent_b_norms;
-  if (static_cast<int>(recent.size()) == kStallSteps && b_norm > kStallRatio * recent.front()) return true;
-  recent.push_back(b_norm);
-  if (static_cast<int>(recent.size()) > kStallSteps) recent.erase(recent.begin());
-  return false;
-}
-
 }  // namespace
 
 NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSettings& s, IterationPoint& point,
                                  LocalFit& fit, NewtonMemory& memory, SolveResult& result) {
   Eigen::MatrixXd& y = point.y;
   const Eigen::Index nf = y.rows();
-  Eigen::MatrixXd g(nf, 3), rhs(nf, 3), b(nf, 3), delta(nf, 3), trial_g(nf, 3), trial_rhs(nf, 3), trial_y(nf, 3);
+  Eigen::MatrixXd g(nf, 3), rhs(nf, 3), b(nf, 3), delta(nf, 3), trial_y(nf, 3);
   Eigen::MatrixXd best_y;
-  double best_merit = std::numeric_limits<double>::infinity();
+  double best_energy = std::numeric_limits<double>::infinity();
   LocalFit trial_fit;
-  bool have_g = false;  // g, rhs already hold G(y): a line-search trial that was kept
   result.distance_estimate = std::numeric_limits<double>::infinity();
 
   const std::function<void()> stop_if_asked = [&] {
@@ -102,26 +85,19 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
 
   while (result.iterations < s.max_iterations) {
     stop_if_asked();
-    if (!have_g) {
-      const double r0 = evaluate(y, fit, rhs, g);
-      result.energies.push_back(point.energy);
-      if (!std::isfinite(r0)) {
-        result.warnings.push_back("the iteration produced non-finite positions; stopped at the last finite shape");
-        point.fitted = false;
-        return NewtonEnd::Stopped;
-      }
+    const double r = evaluate(y, fit, rhs, g);
+    result.energies.push_back(point.energy);
+    if (!std::isfinite(r)) {
+      result.warnings.push_back("the iteration produced non-finite positions; stopped at the last finite shape");
+      point.fitted = false;
+      return NewtonEnd::Stopped;
     }
-    have_g = false;
-    const double r = result.residuals.back();
     if (point.fitted && r <= ConvergenceMonitor::kRoundoff) {  // a fixed point to working precision
       result.distance_estimate = r;
       result.converged = true;
       return NewtonEnd::Converged;
     }
-    // No iteration left for a trial's G (lambda < 1): a plain step, so that calls of one
-    // iteration each (a live tick on a slow machine) still move.
-    const bool no_trial_left = !s.descent && result.iterations >= s.max_iterations;
-    if (!point.fitted || memory.plain_steps_left > 0 || no_trial_left) {  // a plain local/global step
+    if (!point.fitted || memory.plain_steps_left > 0) {  // a plain local/global step
       if (memory.plain_steps_left > 0) --memory.plain_steps_left;
       y.swap(g);
       point.energy = problem.local_fit(y, fit);
@@ -129,17 +105,14 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
       result.energies.back() = point.energy;
       continue;
     }
-    b = rhs - problem.A() * y;  // A (G(y) - y): -gradient / 2 at lambda = 1
-    const double b_norm = b.norm();
-    if (!s.descent && stalled(memory, b_norm)) return give_up();
-    const double merit = s.descent ? point.energy : b_norm;
-    if (merit < best_merit) {
-      best_merit = merit;
+    b = rhs - problem.A() * y;  // A (G(y) - y): -gradient / 2
+    if (point.energy < best_energy) {
+      best_energy = point.energy;
       best_y = y;
     }
 
     const bool factored = factor_direction(problem, fit, s, memory, stop_if_asked);
-    const bool exact = factored && (!s.descent || memory.level == 0);
+    const bool exact = factored && memory.level == 0;
     stop_if_asked();
     bool accepted = false;
     double alpha = 1.0, step_size = std::numeric_limits<double>::infinity();
@@ -147,8 +120,8 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
       problem.solve_newton(b, delta);
       ++result.newton_steps;
       step_size = largest_row(delta) / s.diag;
-      const double slope = -2.0 * frobenius_dot(b, delta);  // dE/dalpha at lambda = 1
-      if (s.descent && std::isfinite(step_size) && slope < 0.0) {
+      const double slope = -2.0 * frobenius_dot(b, delta);  // dE/dalpha
+      if (std::isfinite(step_size) && slope < 0.0) {
         if (s.lifted) problem.prepare_lift(fit, delta);
         for (int attempt = 0; attempt <= kBacktracks; ++attempt) {
           stop_if_asked();
@@ -171,36 +144,11 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
           if (std::isfinite(trial_energy) && curvature > 0.0) next = -slope * alpha * alpha / (2.0 * curvature);
           alpha = std::clamp(next, kShortestCut * alpha, kLongestCut * alpha);
         }
-      } else if (!s.descent && std::isfinite(step_size)) {
-        for (int attempt = 0; attempt <= kBacktracks && result.iterations < s.max_iterations; ++attempt) {
-          stop_if_asked();
-          trial_y = y + alpha * delta;
-          trial_fit = fit;
-          const double trial_energy = problem.local_fit(trial_y, trial_fit);
-          bool keep = false;
-          if (std::isfinite(trial_energy)) {
-            const double trial_r = evaluate(trial_y, trial_fit, trial_rhs, trial_g);
-            keep = std::isfinite(trial_r) &&
-                   (trial_rhs - problem.A() * trial_y).norm() <= (1.0 - kArmijo * alpha) * b_norm;
-            result.energies.push_back(keep ? trial_energy : point.energy);
-          }
-          if (keep) {
-            y.swap(trial_y);
-            std::swap(fit, trial_fit);
-            point.energy = trial_energy;
-            g.swap(trial_g);
-            rhs.swap(trial_rhs);
-            have_g = true;
-            accepted = true;
-            break;
-          }
-          alpha *= kLongestCut;
-        }
       }
     }
     if (tracing())
       std::fprintf(stderr, "newton %d (projection %.2f): r %.2e |b| %.2e step %.2e alpha %.3g %s E %.10g\n",
-                   result.newton_steps, s.descent ? kProjectionLevels[memory.level] : 0.0, r, b_norm, step_size,
+                   result.newton_steps, kProjectionLevels[memory.level], r, b.norm(), step_size,
                    alpha, !factored ? "not factored" : accepted ? "kept" : "failed", point.energy);
     if (!accepted) {
       ++result.line_search_failures;
@@ -213,11 +161,10 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
     memory.failures = 0;
     if (exact && alpha == 1.0) {
       result.distance_estimate = step_size;
-      // lambda < 1: the kept trial's own residual must agree. lambda = 1: K must factor at
-      // the point the step reached too, with a small step again (the dino lift: a small
-      // step from where K factored ended 1.3e-3 from the solution, beside a saddle).
-      const bool small = step_size <= s.tolerance && (s.descent || result.residuals.back() <= s.tolerance);
-      if (small && (!s.descent || memory.candidate)) {
+      // K must factor at the point the step reached too, with a small step again (the dino
+      // lift: a small step from where K factored ended 1.3e-3 from the solution, beside a saddle).
+      const bool small = step_size <= s.tolerance;
+      if (small && memory.candidate) {
         result.converged = true;
         return NewtonEnd::Converged;
       }
@@ -225,16 +172,11 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
     } else {
       memory.candidate = false;
     }
-    if (s.descent && alpha == 1.0 && memory.level > 0) memory.level = s.ladder ? memory.level - 1 : 0;  // the model held: project less
+    if (alpha == 1.0 && memory.level > 0) memory.level = s.ladder ? memory.level - 1 : 0;  // the model held: project less
   }
   // Out of iterations: never end worse than the best point held.
   if (best_y.size() != 0 && point.fitted) {
-    double merit = point.energy;
-    if (!s.descent) {
-      problem.global_step(fit, rhs, g);
-      merit = (rhs - problem.A() * y).norm();
-    }
-    if (best_merit < merit) {
+    if (best_energy < point.energy) {
       y = best_y;
       point.energy = problem.local_fit(y, fit);
       if (!result.energies.empty()) result.energies.back() = point.energy;

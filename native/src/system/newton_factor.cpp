@@ -15,7 +15,7 @@ double ms_since(Clock::time_point start) {
 }
 }  // namespace
 
-bool NewtonFactor::factor(const FixedPointLinearization& lin, bool symmetric) {
+bool NewtonFactor::factor(const FixedPointLinearization& lin) {
   auto t0 = Clock::now();
   const bool fresh = !matrix_;
   if (!matrix_) {
@@ -29,13 +29,9 @@ bool NewtonFactor::factor(const FixedPointLinearization& lin, bool symmetric) {
   assemble_ms_ = ms_since(t0);
   if (std::getenv("EDGEDEFORM_TRACE")) std::fprintf(stderr, "newton factor: pattern %.0f ms (%s), assembly %.0f ms\n", pattern_ms, fresh ? "new" : "kept", assemble_ms_ - pattern_ms);
   t0 = Clock::now();
-  symmetric_ = symmetric;
   bool ok = true;
   try {
-    if (symmetric)
-      cholesky_.factorize(matrix_->transpose(), order_);  // K^T = K
-    else
-      lu_.factorize(matrix_->transpose(), order_);  // solved transposed: K x = b
+    cholesky_.factorize(matrix_->transpose(), order_);  // K^T = K
   } catch (const FactorizationError&) {
     ok = false;
   }
@@ -49,13 +45,9 @@ void NewtonFactor::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& delta) {
   Eigen::VectorXd rhs(3 * nf), x;
   for (Eigen::Index v = 0; v < nf; ++v)
     for (int c = 0; c < 3; ++c) rhs(3 * v + c) = b(v, c);
-  if (symmetric_) {
-    Eigen::MatrixXd X;
-    cholesky_.solve(rhs, X);
-    x = X.col(0);
-  } else {
-    lu_.solve(rhs, x, /*transposed=*/true);
-  }
+  Eigen::MatrixXd X;
+  cholesky_.solve(rhs, X);
+  x = X.col(0);
   delta.resize(nf, 3);
   for (Eigen::Index v = 0; v < nf; ++v)
     for (int c = 0; c < 3; ++c) delta(v, c) = x(3 * v + c);
