@@ -17,7 +17,7 @@ bl_info = {
 import bpy
 
 from . import (cache_handlers, menus, operators_bake, operators_bind, operators_grab,
-               operators_groups, operators_live, preferences, properties, session, ui)
+               operators_groups, operators_live, preferences, properties, solver_cache, ui)
 
 # Where things are: lifecycle.py owns the rest shape, the output and their invalidation;
 # engine.py turns settings into solver inputs; mesh_arrays.py moves bpy data to NumPy;
@@ -60,4 +60,4 @@ def unregister():
     operators_bake.unregister_handlers()
     properties.unregister_props()
     _unregister()
-    session.clear()
+    solver_cache.forget_all()

@@ -22,8 +22,9 @@ Invalidation rules, checked before anything is written (`_check_output`):
     output key itself (base unchanged) are refused: Apply keeps them;
   - keys the add-on did not make are never written: an output name that is empty, the
     base ("Basis" or the reference key) or a key of the user's is refused;
-  - undo and reload: the state comes back with the mesh; the in-memory cache (session.py)
-    is checked against the topology digest and the rest shape on every use.
+  - undo and reload: the state comes back with the mesh; the in-memory cache
+    (solver_cache.py) is checked against the topology digest and the rest shape on every
+    use.
 Every check runs before the first write, so a refused operation changes nothing.
 """
 
@@ -32,7 +33,7 @@ import time
 import bpy
 import numpy as np
 
-from . import engine, handle_holds, mesh_arrays, native, session, settle, solve_method
+from . import engine, handle_holds, mesh_arrays, native, settle, solver_cache, solve_method
 
 REST_ATTRIBUTE = ".edge_deform_rest"
 STATE_FIELDS = ("output", "output_key", "made_key_datablock", "topology", "written", "base",
@@ -119,7 +120,7 @@ def rest_shape(mesh):
     return mesh_arrays.read_positions(mesh)
 
 
-# ------------------------------------------------------------------ the solver cache
+# ------------------------------------------------------------------ solving
 
 def _to_end(steps):
     """Run a generator of stages in one go; its result."""
@@ -128,38 +129,6 @@ def _to_end(steps):
             next(steps)
         except StopIteration as done:
             return done.value
-
-
-def _graph_steps(binding, inputs, what, fractions, owner):
-    """Build `binding`'s graph for inputs.domain and factor it: yields (fraction, text)
-    before each of these two long stages (the status text names the work)."""
-    graph = "edge" if inputs.domain == 'EDGE' else "vertex"
-    yield fractions[0], "%s: building the %s graph of %d triangles…" % (
-        what, graph, len(binding.F))
-    binding.build(native.get(), inputs.domain)
-    yield fractions[1], "%s: factoring %s graph nodes…" % (
-        what, _count(binding.deformer.n_nodes))
-    binding.sync(native.get(), inputs, owner)   # (Binding.bind_ms: the compute time)
-
-
-def _binding_steps(mesh, inputs, X, digest, what, fractions, owner):
-    """The cached Binding of `mesh` for this rest shape and domain; a stale one (or one of
-    the other domain) is replaced by a new Binding built in stages (_graph_steps). The
-    cache keeps the old one until the new one is complete, so closing the generator
-    early leaves everything as it was."""
-    pointer = mesh.as_pointer()
-    binding = session.get(pointer)
-    if (binding is not None and binding.digest == digest
-            and binding.rest_key == session.rest_key(X) and binding.domain == inputs.domain):
-        binding.sync(native.get(), inputs, owner)
-        return binding
-    F = mesh_arrays.read_triangles(mesh)
-    if F.shape[0] == 0:
-        raise Refused("The mesh has no faces")
-    binding = session.Binding(pointer, mesh_arrays.topology_counts(mesh), digest, X, F)
-    yield from _graph_steps(binding, inputs, what, fractions, owner)
-    session.put(binding)
-    return binding
 
 
 class ObjectSolver:
@@ -220,23 +189,15 @@ def prepare_steps(ob, inputs=None, require_handles=True, what=None,
     digest = mesh_arrays.topology_digest(mesh)
     _check_output(ob, digest)
     # (The owner: a linked duplicate has settings of its own.)
-    binding = yield from _binding_steps(mesh, inputs, rest_shape(mesh), digest,
-                                        what or "'%s'" % ob.name, fractions, ob.name_full)
+    binding = yield from solver_cache.binding_steps(
+        mesh, inputs, rest_shape(mesh), digest, what or "'%s'" % ob.name, fractions,
+        ob.name_full)
     return ObjectSolver(ob, inputs, binding, _hash(mesh_arrays.read_positions32(mesh)))
 
 
 def prepare(ob, inputs=None, require_handles=True):
     """prepare_steps in one go."""
     return _to_end(prepare_steps(ob, inputs, require_handles))
-
-
-def cached_inputs(ob):
-    """The inputs of this object's last sync (playback: groups cannot change), or None."""
-    binding = session.get(ob.data.as_pointer())
-    inputs = None if binding is None else binding.inputs_of(ob.name_full)
-    if inputs is None or binding.counts != mesh_arrays.topology_counts(ob.data):
-        return None
-    return engine.with_global_changes(inputs, ob)
 
 
 def deform_steps(ob, chunk_ms=100.0):
@@ -267,7 +228,7 @@ def deform_steps(ob, chunk_ms=100.0):
 def deform(ob, warm=False, reuse_inputs=False, iterations=None):
     """Bind if needed, solve from the controllers, write: (ObjectSolver, SolveResult)."""
     s = ob.edge_deform
-    solver = prepare(ob, cached_inputs(ob) if reuse_inputs else None)
+    solver = prepare(ob, solver_cache.cached_inputs(ob) if reuse_inputs else None)
     r = solver.solve(solver.targets(), iterations or s.iterations, s.tolerance, warm=warm)
     solver.write(r.positions)
     return solver, r
@@ -400,14 +361,9 @@ def bind_steps(ob):
     inputs = engine.gather_inputs(ob)
     mesh = ob.data
     digest = mesh_arrays.topology_digest(mesh)
-    X, F = mesh_arrays.read_positions(mesh), mesh_arrays.read_triangles(mesh)
-    if F.shape[0] == 0:
-        raise Refused("The mesh has no faces")
-    binding = session.Binding(mesh.as_pointer(), mesh_arrays.topology_counts(mesh), digest,
-                              X, F)
-    yield from _graph_steps(binding, inputs, "Binding '%s'" % ob.name, (0.2, 0.4),
-                            ob.name_full)
-    session.put(binding)   # (replaces the mesh's old binding)
+    binding = yield from solver_cache.new_binding_steps(
+        mesh, inputs, mesh_arrays.read_positions(mesh), digest, "Binding '%s'" % ob.name,
+        (0.2, 0.4), ob.name_full)
     st = _state(mesh)
     if st.output == 'MESH':   # the base holds the shape the user accepts as the new rest
         mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
@@ -416,14 +372,6 @@ def bind_steps(ob):
     handle_holds.clear(mesh)   # the handles hold the new rest
     record_rest_transforms(ob)
     return binding
-
-
-def _count(n):
-    """150k, 1.2M: a count for a status text."""
-    for size, unit in ((1e6, "M"), (1e3, "k")):
-        if n >= size:
-            return "%.3g%s" % (n / size, unit)
-    return str(n)
 
 
 def apply(ob):
@@ -440,7 +388,7 @@ def apply(ob):
     handle_holds.clear(mesh)   # the shape shown, held where it is, is the new rest
     st.output, st.output_key, st.written, st.base, st.unheld = 'NONE', "", "", "", 0
     record_rest_transforms(ob)
-    session.drop(mesh.as_pointer())
+    solver_cache.forget(mesh)
     mesh.update()
 
 
@@ -476,7 +424,7 @@ def _apply_key(ob, kb):
 def is_bound(mesh):
     """Has this mesh a binding (cached solver, or a result it holds)? What the panel's
     Bind/Unbind swap shows; the same test Unbind uses to say whether it did anything."""
-    return session.get(mesh.as_pointer()) is not None or _state(mesh).output != 'NONE'
+    return solver_cache.is_cached(mesh) or _state(mesh).output != 'NONE'
 
 
 def unbind(ob):
@@ -485,20 +433,13 @@ def unbind(ob):
     mesh = ob.data
     st = _state(mesh)
     was = is_bound(mesh)
-    session.drop(mesh.as_pointer())
+    solver_cache.forget(mesh)
     mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
     handle_holds.clear(mesh)
     if st.output == 'MESH':
         st.output, st.written = 'NONE', ""
     st.topology, st.unheld = "", 0
     return was
-
-
-def forget_cache(mesh):
-    """The next solve of this mesh starts cold (a tool ended or was cancelled)."""
-    binding = session.get(mesh.as_pointer())
-    if binding is not None:
-        binding.start_cold()
 
 
 def note_unheld_edit(mesh, count):
@@ -576,7 +517,7 @@ class Snapshot:
         else:
             mesh_arrays.write_vector_attribute(mesh, REST_ATTRIBUTE, self.rest)
         mesh.update()
-        session.drop(mesh.as_pointer())
+        solver_cache.forget(mesh)
         return mesh
 
     def discard(self):

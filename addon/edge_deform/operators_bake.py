@@ -6,7 +6,7 @@ import bpy
 from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, IntProperty
 
-from . import engine, lifecycle, tool_guard
+from . import engine, lifecycle, solver_cache, tool_guard
 from .op_common import (StepsJob, deformed_object, error_text, guarded, poll_mesh, run_steps,
                         tell)
 
@@ -81,7 +81,7 @@ class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
         self.frame0 = self.scene.frame_current
         self.results = []
         self.solver = lifecycle.prepare(self.ob)
-        self.solver.binding.start_cold()   # the first frame solves from scratch
+        solver_cache.start_cold(self.ob.data)   # the first frame solves from scratch
 
     def solve_next(self):
         """Solve the next frame (the frame handler is held off meanwhile)."""

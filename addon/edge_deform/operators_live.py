@@ -30,7 +30,8 @@ previous domain and its graph, the mesh untouched (nothing is written until it i
 
 import bpy
 
-from . import engine, lifecycle, live_selection, overlay, preferences, settle, shown_shape
+from . import (engine, lifecycle, live_selection, overlay, preferences, settle, shown_shape,
+               solver_cache)
 from .modal_states import Live, LiveEvent, live_next
 from .op_common import (ModalTool, Stages, deformed_object, error_text, guarded,
                         over_the_view, poll_mesh, tell)
@@ -381,7 +382,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.end_modal(context)
         self.snapshot.discard()
         self.surroundings.give_back(cancelled=False)
-        lifecycle.forget_cache(self.ob.data)
+        solver_cache.start_cold(self.ob.data)
         tell(self, 'INFO', self.end_report())
         return {'FINISHED'}
 

@@ -2,6 +2,8 @@
   - every mode switch goes through compat.mode_set (Blender 5.0.1's crash guard);
   - foreach_get/foreach_set appear only in mesh_arrays.py (one place moves bpy arrays);
   - messages reach the user only through op_common.tell (where the tests listen);
+  - only solver_cache.py uses the solver cache (session.py): one owner decides when a
+    Binding is trusted and forgets it;
   - the modules the benchmark and the unit tests load by path import nothing from bpy.
 
     /usr/bin/python3 -m pytest tests/blender/test_unit_addon_rules.py
@@ -57,6 +59,23 @@ def test_messages_go_through_tell():
     outside = {name: attribute_calls(tree, "report") for name, tree in sources() if name != "op_common.py"}
     outside = {k: v for k, v in outside.items() if v}
     assert not outside, "report() outside op_common.tell: %s" % outside
+
+
+def imported_addon_modules(tree):
+    """The add-on's own modules a source imports (`from . import a, b`, `from .a import x`)."""
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.level == 1:
+            if node.module:
+                names.add(node.module.split(".")[0])
+            else:
+                names.update(alias.name for alias in node.names)
+    return names
+
+
+def test_only_solver_cache_uses_the_session_cache():
+    users = sorted(name for name, tree in sources() if "session" in imported_addon_modules(tree))
+    assert users == ["solver_cache.py"], users
 
 
 def test_path_loaded_modules_are_bpy_free():
