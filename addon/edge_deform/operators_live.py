@@ -78,7 +78,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.state = Live.HOLDING if unheld else Live.SOLVING
         self.seen_settings = self.watched_settings(ob)
         self.seen_controllers = None
-        self.switch = None          # a domain switch in progress (Stages), see start_switch
+        self.switch = None          # while SWITCHING: the switch's stages (start_switch)
         self.refused_for = None     # what the user could fix, when the refusal came
         self.problem = None
         self.status_text = "no solve yet"
@@ -141,11 +141,11 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             if self.refused_for == self.fixable():
                 return                  # wait until the user changes something
             self.go(LiveEvent.RETRY)
-            self.solver = None
         elif self.state == Live.PAUSED:
             self.go(LiveEvent.MODE_BACK)
-            self.solver = None          # the topology may have changed: bind again
         try:
+            if self.state == Live.REBINDING:
+                self.rebind()
             self.follow_changes(context)
             self.follow_selection(context)
             if self.state == Live.SWITCHING:
@@ -153,7 +153,9 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             if self.state in (Live.AT_REST, Live.HOLDING):
                 self.settle.rested()
                 return
-            if self.settle.at_rest:     # (nothing changed since it settled)
+            # Nothing changed since it settled (a stopped domain switch comes back here
+            # with the settle it had): say so, do not iterate.
+            if self.settle.at_rest:
                 self.go(LiveEvent.SETTLED)
                 return
             targets = self.solver.targets()
@@ -189,7 +191,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         ob, s = self.ob, self.ob.edge_deform
         settings = self.watched_settings(ob)
         changed = settings != self.seen_settings
-        if (self.solver is None or lifecycle.output_settings(ob) != self.solver.output
+        if (lifecycle.output_settings(ob) != self.solver.output
                 or settings[1] != self.seen_settings[1]
                 or any(settings[0][n] != self.seen_settings[0][n] for n in REBIND_SETTINGS)):
             self.rebind()
@@ -231,14 +233,18 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                 ob.data.edge_deform_state.written, tuple(map(tuple, ob.matrix_world)), moves)
 
     def rebind(self):
-        """After a mode switch, a change of groups or Output, or a deleted controller:
-        check and read everything again."""
+        """Check and read everything again (Live.REBINDING): back from another mode, a
+        refusal retried, a change of groups or Output, a deleted controller. A refusal
+        leaves Live without a solver, in REFUSED, until the next retry binds again."""
+        if self.state != Live.REBINDING:
+            self.go(LiveEvent.REBIND)
         self.solver = None
         self.solver = lifecycle.prepare(self.ob)
         self.seen_settings = self.watched_settings(self.ob)
         self.seen_controllers = None
         for w in self.solver.warnings():
             tell(self, 'WARNING', w)
+        self.go(LiveEvent.BOUND)
 
     # ------------------------------------------------------------ domain switch
 
@@ -288,9 +294,8 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             "edge" if self.switch_from == 'EDGE' else "vertex"))
 
     def end_modal(self, context):
-        if self.switch is not None:   # (any way out: the progress and cursor end too)
+        if self.state == Live.SWITCHING:   # (any way out: the progress and cursor end too)
             self.switch.stop()
-            self.switch = None
         text = getattr(self, "text", None)
         if text is not None:
             text.remove()
@@ -358,7 +363,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                                 "Esc cancels)")
             return {'RUNNING_MODAL'}
         if event.value == 'PRESS' and event.type == 'ESC':
-            if self.switch is not None:
+            if self.state == Live.SWITCHING:
                 self.cancel_switch()
                 return {'RUNNING_MODAL'}
             return self.cancel_and_restore(context)
@@ -376,7 +381,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.update(context)
 
     def finish(self, context):
-        while self.switch is not None:   # Enter during a domain switch: complete it
+        while self.state == Live.SWITCHING:   # Enter during a domain switch: complete it
             self.advance_switch()
         self.update(context)   # the last controller move may not be solved yet
         self.end_modal(context)
