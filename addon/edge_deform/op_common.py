@@ -313,9 +313,9 @@ class ModalTool:
                 "first" % (tool.bl_label, tool.object_name))
 
     def start_modal(self, context, ob):
-        from . import cache_handlers, lifecycle
+        from . import cache_handlers, snapshot
         self.ob = ob
-        self.snapshot = lifecycle.Snapshot(ob)
+        self.snapshot = snapshot.Snapshot(ob)
         self.generation = cache_handlers.generation()
         self.area = context.area
         self.workspace = context.workspace

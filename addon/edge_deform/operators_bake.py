@@ -6,7 +6,7 @@ import bpy
 from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, IntProperty
 
-from . import engine, lifecycle, solver_cache, tool_guard
+from . import engine, lifecycle, output, solver_cache, tool_guard
 from .op_common import (StepsJob, deformed_object, error_text, guarded, poll_mesh, run_steps,
                         tell)
 
@@ -104,7 +104,7 @@ class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
 
     def job_done(self, context, _):
         ob, s = self.ob, self.ob.edge_deform
-        made = lifecycle.write_baked(ob, self.todo, self.results, self.frame_step)
+        made = output.write_baked(ob, self.todo, self.results, self.frame_step)
         s.animate = False
         self.scene.frame_set(self.frame0)
         tell(self, 'INFO', "Baked %d frames (%d-%d) into shape keys '%s.####'"

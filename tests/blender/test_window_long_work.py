@@ -89,7 +89,7 @@ def live_domain_switch(ob, ctrl, seen):
     Live has no domain key): the status bar names the rebuild's stages before they run,
     Live goes on with the new graph and the mesh follows the controller. A second switch
     cancelled by Esc keeps the graph and leaves the mesh as it was; Enter keeps."""
-    from edge_deform import lifecycle, op_common, session
+    from edge_deform import op_common, output_checks, session
     s = ob.edge_deform
     s.iterations, s.tolerance = 20, 1e-3
     rest = positions(ob.data)
@@ -163,7 +163,7 @@ def live_domain_switch(ob, ctrl, seen):
         tap('RET')
         yield from until(lambda: op_common.running_tool() is None, 60)
     assert told.has('INFO', "Live Deform kept the shape"), told.messages
-    assert lifecycle.owned_key(ob.data) is not None
+    assert output_checks.owned_key(ob.data) is not None
     print("Esc during a domain switch keeps the vertex graph, mesh unchanged; Enter "
           "keeps: ok")
 
