@@ -7,8 +7,9 @@ from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, IntProperty
 
 from . import engine, lifecycle, output, solver_cache, tool_guard
-from .op_common import (StepsJob, deformed_object, error_text, guarded, poll_mesh, run_steps,
-                        tell)
+from .jobs import StepsJob
+from .op_common import deformed_object, error_text, guarded, poll_mesh, tell
+from .progress import run_steps
 
 _state = {"baking": False, "errors": {}}
 

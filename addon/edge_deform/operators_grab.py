@@ -23,7 +23,8 @@ from mathutils import Vector
 from . import (compat, engine, handle_holds, lifecycle, mesh_arrays, output, output_checks,
                settle, shown_shape)
 from .modal_states import Grab, GrabEvent, grab_next
-from .op_common import ModalTool, error_text, guarded, over_the_view, poll_mesh, tell
+from .modal_tool import ModalTool
+from .op_common import error_text, guarded, over_the_view, poll_mesh, tell
 
 AXES = {'X': 0, 'Y': 1, 'Z': 2}
 NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'TRACKPADPAN',

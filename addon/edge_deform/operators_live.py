@@ -23,7 +23,7 @@ Object Mode it binds again (the topology may have changed). Undo or the object's
 end it cleanly.
 
 A domain change (from the panel) needs a new graph, built and factored: seconds on a big
-mesh. Live runs it as stages, one per tick (op_common.Stages): the status bar names each
+mesh. Live runs it as stages, one per tick (progress.Stages): the status bar names each
 stage before it runs, with the progress and the wait cursor; Esc between stages keeps the
 previous domain and its graph, the mesh untouched (nothing is written until it is done).
 """
@@ -33,8 +33,9 @@ import bpy
 from . import (engine, lifecycle, live_selection, overlay, preferences, settle, shown_shape,
                solver_cache)
 from .modal_states import Live, LiveEvent, live_next
-from .op_common import (ModalTool, Stages, deformed_object, error_text, guarded,
-                        over_the_view, poll_mesh, tell)
+from .modal_tool import ModalTool
+from .op_common import deformed_object, error_text, guarded, over_the_view, poll_mesh, tell
+from .progress import Stages
 
 LAMBDA_STEP = 0.05
 # The settings Live reads, by what a change needs: a new read of the groups and a rebind,

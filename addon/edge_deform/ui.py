@@ -10,7 +10,7 @@ get the mesh as their `active_object` (layout.context_pointer_set).
 
 import bpy
 
-from . import compat, lifecycle, op_common, operators_bake
+from . import compat, lifecycle, modal_tool, op_common, operators_bake
 
 
 # (Kept here too: the panel and its tests speak of it.)
@@ -133,7 +133,7 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
             row.label(text=ob.name, icon='OUTLINER_OB_MESH')
             row.operator("edge_deform.select_mesh", text="", icon='RESTRICT_SELECT_OFF')
 
-        running = op_common.running_tool(ob)
+        running = modal_tool.running_tool(ob)
         if running:
             col = layout.column(align=True)
             col.label(text="%s on" % running.bl_label, icon='REC')
