@@ -17,7 +17,8 @@ bl_info = {
 import bpy
 
 from . import (cache_handlers, menus, operators_bake, operators_bind, operators_grab,
-               operators_groups, operators_live, preferences, properties, solver_cache, ui)
+               operators_groups, operators_live, operators_select, preferences, properties,
+               solver_cache, ui)
 
 # Where things are: lifecycle.py owns the rest shape, the output and their invalidation;
 # engine.py turns settings into solver inputs; mesh_arrays.py moves bpy data to NumPy;
@@ -26,7 +27,7 @@ from . import (cache_handlers, menus, operators_bake, operators_bind, operators_
 _register, _unregister = bpy.utils.register_classes_factory(
     properties.CLASSES + operators_groups.CLASSES + operators_bind.CLASSES
     + operators_live.CLASSES + operators_grab.CLASSES + operators_bake.CLASSES
-    + ui.CLASSES + menus.CLASSES + preferences.CLASSES)
+    + operators_select.CLASSES + ui.CLASSES + menus.CLASSES + preferences.CLASSES)
 
 
 def _link_manual():

@@ -4,6 +4,8 @@
   - messages reach the user only through op_common.tell (where the tests listen);
   - only solver_cache.py uses the solver cache (session.py): one owner decides when a
     Binding is trusted and forgets it;
+  - panels and lists are drawn only in ui.py, which defines no operator;
+  - every module says in its docstring what it is for;
   - the modules the benchmark and the unit tests load by path import nothing from bpy.
 
     /usr/bin/python3 -m pytest tests/blender/test_unit_addon_rules.py
@@ -76,6 +78,27 @@ def imported_addon_modules(tree):
 def test_only_solver_cache_uses_the_session_cache():
     users = sorted(name for name, tree in sources() if "session" in imported_addon_modules(tree))
     assert users == ["solver_cache.py"], users
+
+
+def base_names(tree):
+    """{class name: the last part of each base's name} of a module's top-level classes."""
+    return {node.name: [b.attr if isinstance(b, ast.Attribute) else getattr(b, "id", "")
+                        for b in node.bases]
+            for node in tree.body if isinstance(node, ast.ClassDef)}
+
+
+def test_panels_only_in_ui():
+    for name, tree in sources():
+        kinds = {base for bases in base_names(tree).values() for base in bases}
+        if name == "ui.py":
+            assert "Operator" not in kinds, "ui.py draws; operators live in operators_*.py"
+        else:
+            assert not kinds & {"Panel", "UIList"}, "%s draws a panel: ui.py's job" % name
+
+
+def test_every_module_says_what_it_is_for():
+    missing = [name for name, tree in sources() if not ast.get_docstring(tree)]
+    assert not missing, missing
 
 
 def test_path_loaded_modules_are_bpy_free():
