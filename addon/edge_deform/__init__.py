@@ -20,9 +20,10 @@ from . import (cache_handlers, menus, operators_bake, operators_bind, operators_
                operators_groups, operators_live, operators_select, preferences, properties,
                solver_cache, ui)
 
-# Where things are: lifecycle.py owns the rest shape, the output and their invalidation;
-# engine.py turns settings into solver inputs; mesh_arrays.py moves bpy data to NumPy;
-# session.py is the in-memory solver cache; operators_*.py talk to the user.
+# Where things are: lifecycle.py owns the rest shape, the output and their invalidation
+# (checks in output_checks.py, writes in output.py); engine.py turns settings into solver
+# inputs; mesh_arrays.py moves bpy data to NumPy; solver_cache.py owns the in-memory
+# solver cache (session.py); operators_*.py talk to the user, ui.py draws the panel.
 
 _register, _unregister = bpy.utils.register_classes_factory(
     properties.CLASSES + operators_groups.CLASSES + operators_bind.CLASSES
