@@ -16,9 +16,9 @@ bl_info = {
 
 import bpy
 
-from . import (cache_handlers, menus, operators_bake, operators_bind, operators_grab,
-               operators_groups, operators_live, operators_select, preferences, properties,
-               solver_cache, ui)
+from . import (cache_handlers, frame_handler, menus, operators_bake, operators_bind,
+               operators_grab, operators_groups, operators_live, operators_select,
+               preferences, properties, solver_cache, ui)
 
 # Where things are: lifecycle.py owns the rest shape, the output and their invalidation
 # (checks in output_checks.py, writes in output.py); engine.py turns settings into solver
@@ -51,7 +51,7 @@ def register():
     _link_manual()
     _register()
     properties.register_props()
-    operators_bake.register_handlers()
+    frame_handler.register_handlers()
     cache_handlers.register_handlers()
     menus.register_menus()
 
@@ -59,7 +59,7 @@ def register():
 def unregister():
     menus.unregister_menus()
     cache_handlers.unregister_handlers()
-    operators_bake.unregister_handlers()
+    frame_handler.unregister_handlers()
     properties.unregister_props()
     _unregister()
     solver_cache.forget_all()

@@ -170,7 +170,7 @@ def bind_steps(ob):
 
 
 def apply(ob):
-    """Make what the user sees the new base mesh and rest shape (see _apply_key)."""
+    """Make what the user sees the new base mesh and rest shape (see output.apply_key)."""
     mesh = ob.data
     st = mesh.edge_deform_state
     if mesh.shape_keys is not None and not mesh.shape_keys.use_relative:

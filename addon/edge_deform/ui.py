@@ -10,7 +10,7 @@ get the mesh as their `active_object` (layout.context_pointer_set).
 
 import bpy
 
-from . import compat, lifecycle, modal_tool, op_common, operators_bake
+from . import compat, frame_handler, lifecycle, modal_tool, op_common
 
 
 # (Kept here too: the panel and its tests speak of it.)
@@ -67,7 +67,7 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
 
     def draw_header(self, context):
         ob = deformed_object(context)
-        if ob is not None and operators_bake.frame_problem(ob):
+        if ob is not None and frame_handler.frame_problem(ob):
             self.layout.label(text="", icon='ERROR')
 
     def draw(self, context):
@@ -114,7 +114,7 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
         row = col.row(align=True)
         row.operator("edge_deform.solve", icon='FILE_REFRESH')
         row.operator("edge_deform.apply", icon='CHECKMARK')
-        problem = operators_bake.frame_problem(ob) if s.animate else None
+        problem = frame_handler.frame_problem(ob) if s.animate else None
         if problem:
             layout.label(text=problem, icon='ERROR')
 
@@ -236,7 +236,7 @@ class EDGE_DEFORM_PT_animation(_SubPanel, bpy.types.Panel):
         ob = target(self.layout, context)
         s = ob.edge_deform
         layout.prop(s, "animate", text="Every Frame")   # (the full name: the tooltip)
-        problem = operators_bake.frame_problem(ob) if s.animate else None
+        problem = frame_handler.frame_problem(ob) if s.animate else None
         if problem:
             layout.label(text=problem, icon='ERROR')
         layout.operator("edge_deform.bake", icon='REC')
