@@ -56,7 +56,7 @@ from machine import machine_info  # noqa: E402
 
 MESHES = {"koala": "koala.obj", "spot": "spot_low_resolution.obj", "dino": "cgal_dino.off",
           "spot11k": "spot.obj"}
-TIMER_MS = 1000.0 / 60.0       # Live's timer (op_common.ModalTool)
+TIMER_MS = 1000.0 / 60.0       # Live's timer (modal_tool.ModalTool)
 # The add-on's settle policy (bpy-free): the tick's time budget, "settled", the give-up.
 _spec = importlib.util.spec_from_file_location(
     "edge_deform_settle", ROOT / "addon" / "edge_deform" / "settle.py")

@@ -16,17 +16,19 @@ bl_info = {
 
 import bpy
 
-from . import (cache_handlers, menus, operators_bake, operators_bind, operators_grab,
-               operators_groups, operators_live, preferences, properties, session, ui)
+from . import (cache_handlers, frame_handler, menus, operators_bake, operators_bind,
+               operators_grab, operators_groups, operators_live, operators_select,
+               preferences, properties, solver_cache, ui)
 
-# Where things are: lifecycle.py owns the rest shape, the output and their invalidation;
-# engine.py turns settings into solver inputs; mesh_arrays.py moves bpy data to NumPy;
-# session.py is the in-memory solver cache; operators_*.py talk to the user.
+# Where things are: lifecycle.py owns the rest shape, the output and their invalidation
+# (checks in output_checks.py, writes in output.py); engine.py turns settings into solver
+# inputs; mesh_arrays.py moves bpy data to NumPy; solver_cache.py owns the in-memory
+# solver cache (session.py); operators_*.py talk to the user, ui.py draws the panel.
 
 _register, _unregister = bpy.utils.register_classes_factory(
     properties.CLASSES + operators_groups.CLASSES + operators_bind.CLASSES
     + operators_live.CLASSES + operators_grab.CLASSES + operators_bake.CLASSES
-    + ui.CLASSES + menus.CLASSES + preferences.CLASSES)
+    + operators_select.CLASSES + ui.CLASSES + menus.CLASSES + preferences.CLASSES)
 
 
 def _link_manual():
@@ -49,7 +51,7 @@ def register():
     _link_manual()
     _register()
     properties.register_props()
-    operators_bake.register_handlers()
+    frame_handler.register_handlers()
     cache_handlers.register_handlers()
     menus.register_menus()
 
@@ -57,7 +59,7 @@ def register():
 def unregister():
     menus.unregister_menus()
     cache_handlers.unregister_handlers()
-    operators_bake.unregister_handlers()
+    frame_handler.unregister_handlers()
     properties.unregister_props()
     _unregister()
-    session.clear()
+    solver_cache.forget_all()

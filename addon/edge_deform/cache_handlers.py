@@ -2,14 +2,14 @@
 
 Undo and file loads replace mesh datablocks, so cached bindings may point at freed meshes
 (whose addresses Blender may reuse). Every cache hit is re-checked anyway (topology and rest
-shape, lifecycle.py); this frees memory early, and counts undo/redo steps so that a modal
+shape, solver_cache.py); this frees memory early, and counts undo/redo steps so that a modal
 tool notices that the data it holds were replaced and ends cleanly.
 """
 
 import bpy
 from bpy.app.handlers import persistent
 
-from . import session
+from . import solver_cache
 
 _generation = [0]
 
@@ -22,13 +22,13 @@ def generation():
 @persistent
 def _on_load(*_args):
     _generation[0] += 1
-    session.clear()
+    solver_cache.forget_all()
 
 
 @persistent
 def _on_undo(*_args):
     _generation[0] += 1
-    session.prune({mesh.as_pointer() for mesh in bpy.data.meshes})
+    solver_cache.forget_all_but({mesh.as_pointer() for mesh in bpy.data.meshes})
 
 
 _HANDLERS = ((bpy.app.handlers.load_post, _on_load),

@@ -1,6 +1,7 @@
 """The lifecycle of a bound mesh: its rest shape, its output, its stored state, and when
-each of them stops being valid. Nothing else in the add-on writes the rest shape or the
-output: operators, Live Deform, Grab Deform, the frame handler and Bake all come here.
+each of them stops being valid. Operators, Live Deform, Grab Deform, the frame handler
+and Bake all come here to bind, solve, apply or unbind; nothing else decides when the
+rest shape or the output is written.
 
 States (docs/addon.md has the diagram). They are stored on the Mesh, next to the data
 they describe (`mesh.edge_deform_state`, plus the point attribute REST_ATTRIBUTE), so
@@ -13,113 +14,18 @@ sharing one mesh share one rest shape and one output:
   MESH OUTPUT state.output == 'MESH': the base mesh holds the last result; the rest shape
               is kept in the point attribute REST_ATTRIBUTE.
 
-Invalidation rules, checked before anything is written (`_check_output`):
-  - a topology change: the rest is re-read from the base mesh (UNBOUND, KEY OUTPUT);
-    with MESH OUTPUT the base holds a deformed shape, so the solve refuses: "Bind again";
-  - user edits: with MESH OUTPUT, a base mesh that differs from what was written last
-    (hash `state.written`) was edited by the user: refuse, Bind makes the edit the rest.
-    With KEY OUTPUT, edits of the base mesh simply become the new rest; edits of the
-    output key itself (base unchanged) are refused: Apply keeps them;
-  - keys the add-on did not make are never written: an output name that is empty, the
-    base ("Basis" or the reference key) or a key of the user's is refused;
-  - undo and reload: the state comes back with the mesh; the in-memory cache (session.py)
-    is checked against the topology digest and the rest shape on every use.
-Every check runs before the first write, so a refused operation changes nothing.
+The checks before any write are output_checks.py's, the writes output.py's, the solver
+cache solver_cache.py's, and a tool's exact cancel snapshot.py's.
 """
 
 import time
 
-import bpy
-import numpy as np
+from . import (engine, handle_holds, mesh_arrays, native, output, settle, solver_cache,
+               solve_method)
+from .output_checks import REST_ATTRIBUTE, check_output, owned_key, rest_shape, shape_hash
 
-from . import engine, handle_holds, mesh_arrays, native, session, settle, solve_method
-
-REST_ATTRIBUTE = ".edge_deform_rest"
-STATE_FIELDS = ("output", "output_key", "made_key_datablock", "topology", "written", "base",
-                "baked_keys", "unheld")
 Refused = engine.EdgeDeformError
 
-
-def _state(mesh):
-    return mesh.edge_deform_state
-
-
-def _hash(co):
-    return mesh_arrays.array_digest(np.ascontiguousarray(co, np.float32))
-
-
-# ------------------------------------------------------------------ ownership and checks
-
-def owned_key(mesh):
-    """The output shape key made by the add-on, if it still exists."""
-    st, keys = _state(mesh), mesh.shape_keys
-    if st.output != 'SHAPE_KEY' or keys is None or not st.output_key:
-        return None
-    return keys.key_blocks.get(st.output_key)
-
-
-def baked_key_names(mesh):
-    return [n for n in _state(mesh).baked_keys.split("\n") if n]
-
-
-def check_key_name(ob, name, allowed=()):
-    """Refuse an output key name that would overwrite the base or a key of the user's."""
-    keys = ob.data.shape_keys
-    if not name.strip():
-        raise Refused("The output shape key has no name: type one in Output > Shape Key")
-    base = keys.reference_key.name if keys is not None else "Basis"
-    if name in {"Basis", base}:
-        raise Refused("The output shape key cannot be '%s': that is the base shape. "
-                      "Choose another name in Output > Shape Key" % name)
-    if keys is not None and name in keys.key_blocks and name not in allowed:
-        raise Refused("A shape key named '%s' already exists and was not made by Edge "
-                      "Deform: choose another name in Output > Shape Key (your key is left "
-                      "as it is)" % name)
-
-
-def _check_output(ob, digest):
-    """Raise Refused if writing the output now would lose or corrupt something."""
-    s, mesh = ob.edge_deform, ob.data
-    st = _state(mesh)
-    if st.output == 'MESH':
-        if s.output != 'MESH':
-            raise Refused("The base mesh holds the last deformation (Output was Mesh): "
-                          "Apply or Bind first, or set Output back to Mesh")
-        if st.topology != digest:
-            raise Refused("The mesh topology changed since the last solve and the base mesh "
-                          "holds the deformed shape: press Bind to make the current mesh "
-                          "the rest shape")
-        if _hash(mesh_arrays.read_positions32(mesh)) != st.written:
-            raise Refused("The mesh was edited since the last solve: press Bind to keep "
-                          "the edits as the new rest shape (or undo them)")
-        if mesh_arrays.read_vector_attribute(mesh, REST_ATTRIBUTE) is None:
-            raise Refused("The rest shape stored with the mesh is missing: press Bind")
-        return
-    kb = owned_key(mesh)
-    if kb is not None:
-        if s.output != 'SHAPE_KEY':
-            raise Refused("The shape key '%s' holds the last deformation: Apply it or "
-                          "delete it first, or set Output back to Shape Key" % kb.name)
-        base = _hash(mesh_arrays.read_positions32(mesh))
-        if (st.topology == digest and base == st.base
-                and _hash(mesh_arrays.read_key(kb)) != st.written):
-            raise Refused("The shape key '%s' was edited since the last solve: Apply to "
-                          "keep the edits, or delete the key to solve again" % kb.name)
-    if s.output == 'SHAPE_KEY':
-        check_key_name(ob, s.shape_key_name, allowed=(kb.name,) if kb is not None else ())
-
-
-def rest_shape(mesh):
-    """The rest shape, float64 (n,3): kept beside the base while it holds the output."""
-    if _state(mesh).output == 'MESH':
-        X = mesh_arrays.read_vector_attribute(mesh, REST_ATTRIBUTE)
-        if X is None:
-            raise Refused("The rest shape stored with the mesh is missing: press Bind")
-        return X.astype(np.float64)
-    return mesh_arrays.read_positions(mesh)
-
-
-# ------------------------------------------------------------------ the solver cache
 
 def _to_end(steps):
     """Run a generator of stages in one go; its result."""
@@ -128,38 +34,6 @@ def _to_end(steps):
             next(steps)
         except StopIteration as done:
             return done.value
-
-
-def _graph_steps(binding, inputs, what, fractions, owner):
-    """Build `binding`'s graph for inputs.domain and factor it: yields (fraction, text)
-    before each of these two long stages (the status text names the work)."""
-    graph = "edge" if inputs.domain == 'EDGE' else "vertex"
-    yield fractions[0], "%s: building the %s graph of %d triangles…" % (
-        what, graph, len(binding.F))
-    binding.build(native.get(), inputs.domain)
-    yield fractions[1], "%s: factoring %s graph nodes…" % (
-        what, _count(binding.deformer.n_nodes))
-    binding.sync(native.get(), inputs, owner)   # (Binding.bind_ms: the compute time)
-
-
-def _binding_steps(mesh, inputs, X, digest, what, fractions, owner):
-    """The cached Binding of `mesh` for this rest shape and domain; a stale one (or one of
-    the other domain) is replaced by a new Binding built in stages (_graph_steps). The
-    cache keeps the old one until the new one is complete, so closing the generator
-    early leaves everything as it was."""
-    pointer = mesh.as_pointer()
-    binding = session.get(pointer)
-    if (binding is not None and binding.digest == digest
-            and binding.rest_key == session.rest_key(X) and binding.domain == inputs.domain):
-        binding.sync(native.get(), inputs, owner)
-        return binding
-    F = mesh_arrays.read_triangles(mesh)
-    if F.shape[0] == 0:
-        raise Refused("The mesh has no faces")
-    binding = session.Binding(pointer, mesh_arrays.topology_counts(mesh), digest, X, F)
-    yield from _graph_steps(binding, inputs, what, fractions, owner)
-    session.put(binding)
-    return binding
 
 
 class ObjectSolver:
@@ -200,7 +74,7 @@ class ObjectSolver:
     def write(self, X):
         if output_settings(self.ob) != self.output:
             raise Refused("The Output settings changed: solve again")
-        _write(self.ob, self.binding, X, self.base_hash)
+        output.write(self.ob, self.binding, X, self.base_hash)
 
 
 def output_settings(ob):
@@ -218,25 +92,17 @@ def prepare_steps(ob, inputs=None, require_handles=True, what=None,
         inputs = engine.gather_inputs(ob, require_handles=require_handles)
     mesh = ob.data
     digest = mesh_arrays.topology_digest(mesh)
-    _check_output(ob, digest)
+    check_output(ob, digest)
     # (The owner: a linked duplicate has settings of its own.)
-    binding = yield from _binding_steps(mesh, inputs, rest_shape(mesh), digest,
-                                        what or "'%s'" % ob.name, fractions, ob.name_full)
-    return ObjectSolver(ob, inputs, binding, _hash(mesh_arrays.read_positions32(mesh)))
+    binding = yield from solver_cache.binding_steps(
+        mesh, inputs, rest_shape(mesh), digest, what or "'%s'" % ob.name, fractions,
+        ob.name_full)
+    return ObjectSolver(ob, inputs, binding, shape_hash(mesh_arrays.read_positions32(mesh)))
 
 
 def prepare(ob, inputs=None, require_handles=True):
     """prepare_steps in one go."""
     return _to_end(prepare_steps(ob, inputs, require_handles))
-
-
-def cached_inputs(ob):
-    """The inputs of this object's last sync (playback: groups cannot change), or None."""
-    binding = session.get(ob.data.as_pointer())
-    inputs = None if binding is None else binding.inputs_of(ob.name_full)
-    if inputs is None or binding.counts != mesh_arrays.topology_counts(ob.data):
-        return None
-    return engine.with_global_changes(inputs, ob)
 
 
 def deform_steps(ob, chunk_ms=100.0):
@@ -267,120 +133,10 @@ def deform_steps(ob, chunk_ms=100.0):
 def deform(ob, warm=False, reuse_inputs=False, iterations=None):
     """Bind if needed, solve from the controllers, write: (ObjectSolver, SolveResult)."""
     s = ob.edge_deform
-    solver = prepare(ob, cached_inputs(ob) if reuse_inputs else None)
+    solver = prepare(ob, solver_cache.cached_inputs(ob) if reuse_inputs else None)
     r = solver.solve(solver.targets(), iterations or s.iterations, s.tolerance, warm=warm)
     solver.write(r.positions)
     return solver, r
-
-
-# ------------------------------------------------------------------ writing the output
-
-def _set(st, **values):
-    """Assign only what changed (each RNA assignment tags the mesh for an update)."""
-    for name, value in values.items():
-        if getattr(st, name) != value:
-            setattr(st, name, value)
-
-
-def _write(ob, binding, X, base_hash):
-    s, mesh = ob.edge_deform, ob.data
-    st = _state(mesh)
-    co = np.ascontiguousarray(X, np.float32)
-    if s.output == 'SHAPE_KEY':
-        kb = owned_key(mesh)
-        if mesh.shape_keys is None:
-            ob.shape_key_add(name="Basis", from_mix=False)
-            st.made_key_datablock = True
-        elif st.output == 'NONE':
-            st.made_key_datablock = False
-        if kb is not None and kb.name != s.shape_key_name:
-            kb.name = s.shape_key_name          # the output name changed in the settings
-        if kb is None:
-            active = ob.active_shape_key_index
-            kb = ob.shape_key_add(name=s.shape_key_name, from_mix=False)
-            kb.value, kb.mute = 1.0, False      # later: the user's mix is left alone
-            ob.active_shape_key_index = active
-        mesh_arrays.write_key(kb, co)
-        _show_live_instead_of_baked(mesh, kb)
-        _set(st, output='SHAPE_KEY', output_key=kb.name, written=_hash(co), base=base_hash)
-        mesh.shape_keys.update_tag()
-    else:
-        if st.output != 'MESH':
-            mesh_arrays.write_vector_attribute(mesh, REST_ATTRIBUTE, binding.X)
-        _move_base(mesh, co)
-        _set(st, output='MESH', output_key="", written=_hash(co))
-    _set(st, topology=binding.digest, unheld=0)   # (a solve placed every vertex)
-    mesh.update()
-
-
-def _show_live_instead_of_baked(mesh, live):
-    """The live key and the baked keys never add up: a new result in the live key mutes
-    the add-on's baked keys and shows the live key (Bake set it to 0); Bake does the
-    reverse (write_baked). Esc of a tool puts every key's value and mute back."""
-    baked = [mesh.shape_keys.key_blocks.get(n) for n in baked_key_names(mesh)]
-    baked = [kb for kb in baked if kb is not None]
-    if not baked:
-        return
-    for kb in baked:
-        if not kb.mute:
-            kb.mute = True
-    if live.value == 0.0:
-        live.value = 1.0
-
-
-def _move_base(mesh, co, skip=()):
-    """The base mesh becomes `co`; every other shape key moves with it, so that each keeps
-    its offset from the key it is relative to (the keys stay valid for the new base)."""
-    old = mesh_arrays.read_positions32(mesh).astype(np.float64)
-    mesh_arrays.write_positions(mesh, co)
-    keys = mesh.shape_keys
-    if keys is None:
-        return
-    delta = co.astype(np.float64) - old
-    for kb in keys.key_blocks:
-        if kb == keys.reference_key:
-            mesh_arrays.write_key(kb, co)
-        elif kb.name not in skip:
-            mesh_arrays.write_key(kb, mesh_arrays.read_key(kb).astype(np.float64) + delta)
-    keys.update_tag()
-
-
-def write_baked(ob, frames, results, step):
-    """Bake: one key per frame, keyed 1 on its frame and 0 on its neighbours. Only keys
-    the add-on baked before are replaced; a user's key of the same name is refused."""
-    mesh, s = ob.data, ob.edge_deform
-    ours = set(baked_key_names(mesh))
-    names = ["%s.%04d" % (s.shape_key_name, f) for f in frames]
-    for name in names:
-        check_key_name(ob, name, allowed=ours)
-    st = _state(mesh)
-    if mesh.shape_keys is None:
-        ob.shape_key_add(name="Basis", from_mix=False)
-        if st.output == 'NONE':
-            st.made_key_datablock = True
-    active = ob.active_shape_key_index
-    for name in names:   # a re-bake replaces the previous keys
-        old = mesh.shape_keys.key_blocks.get(name)
-        if old is not None:
-            ob.shape_key_remove(old)
-    for f, name, X in zip(frames, names, results):
-        kb = ob.shape_key_add(name=name, from_mix=False)
-        mesh_arrays.write_key(kb, X)
-        for frame, value in ((f - step, 0.0), (f, 1.0), (f + step, 0.0)):
-            kb.value = value
-            kb.keyframe_insert("value", frame=frame)
-    ob.active_shape_key_index = min(active, len(mesh.shape_keys.key_blocks) - 1)
-    st.baked_keys = "\n".join(sorted(ours | set(names)))
-    for name in ours:   # (a result written since the last bake muted them)
-        kb = mesh.shape_keys.key_blocks.get(name)
-        if kb is not None and kb.mute:
-            kb.mute = False
-    live = owned_key(mesh)
-    if live is not None:
-        live.value = 0.0   # the baked keys replace the live result
-    st.unheld = 0
-    mesh.update()
-    return names
 
 
 # ------------------------------------------------------------------ bind, apply, unbind
@@ -400,15 +156,10 @@ def bind_steps(ob):
     inputs = engine.gather_inputs(ob)
     mesh = ob.data
     digest = mesh_arrays.topology_digest(mesh)
-    X, F = mesh_arrays.read_positions(mesh), mesh_arrays.read_triangles(mesh)
-    if F.shape[0] == 0:
-        raise Refused("The mesh has no faces")
-    binding = session.Binding(mesh.as_pointer(), mesh_arrays.topology_counts(mesh), digest,
-                              X, F)
-    yield from _graph_steps(binding, inputs, "Binding '%s'" % ob.name, (0.2, 0.4),
-                            ob.name_full)
-    session.put(binding)   # (replaces the mesh's old binding)
-    st = _state(mesh)
+    binding = yield from solver_cache.new_binding_steps(
+        mesh, inputs, mesh_arrays.read_positions(mesh), digest, "Binding '%s'" % ob.name,
+        (0.2, 0.4), ob.name_full)
+    st = mesh.edge_deform_state
     if st.output == 'MESH':   # the base holds the shape the user accepts as the new rest
         mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
         st.output, st.written = 'NONE', ""
@@ -418,74 +169,37 @@ def bind_steps(ob):
     return binding
 
 
-def _count(n):
-    """150k, 1.2M: a count for a status text."""
-    for size, unit in ((1e6, "M"), (1e3, "k")):
-        if n >= size:
-            return "%.3g%s" % (n / size, unit)
-    return str(n)
-
-
 def apply(ob):
-    """Make what the user sees the new base mesh and rest shape (see _apply_key)."""
+    """Make what the user sees the new base mesh and rest shape (see output.apply_key)."""
     mesh = ob.data
-    st = _state(mesh)
+    st = mesh.edge_deform_state
     if mesh.shape_keys is not None and not mesh.shape_keys.use_relative:
         raise Refused("Apply needs relative shape keys (Shape Keys > Relative is off)")
     if st.output == 'NONE' or (st.output == 'SHAPE_KEY' and owned_key(mesh) is None):
         deform(ob)   # nothing shown yet: solve now (may refuse; nothing written then)
     if st.output == 'SHAPE_KEY':
-        _apply_key(ob, owned_key(mesh))
+        output.apply_key(ob, owned_key(mesh))
     mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
     handle_holds.clear(mesh)   # the shape shown, held where it is, is the new rest
     st.output, st.output_key, st.written, st.base, st.unheld = 'NONE', "", "", "", 0
     record_rest_transforms(ob)
-    session.drop(mesh.as_pointer())
+    solver_cache.forget(mesh)
     mesh.update()
-
-
-def _apply_key(ob, kb):
-    """Fold the output key into the base exactly as it shows (its value, mute and vertex
-    group), move every other key along, remove the output key."""
-    mesh = ob.data
-    keys = mesh.shape_keys
-    K = mesh_arrays.read_key(kb).astype(np.float64)
-    weight = 0.0 if kb.mute else float(kb.value)
-    delta = weight * (K - mesh_arrays.read_key(kb.relative_key).astype(np.float64))
-    if kb.vertex_group and kb.vertex_group in ob.vertex_groups:
-        w = mesh_arrays.read_group_weights(ob, [kb.vertex_group])[kb.vertex_group]
-        delta *= w[:, None]
-    base = mesh_arrays.read_positions32(mesh).astype(np.float64) + delta
-    # Keys relative to the output key keep their offset, now from the new base.
-    moved = {o.name: base + (mesh_arrays.read_key(o) - K) for o in keys.key_blocks
-             if o != kb and o != keys.reference_key and o.relative_key == kb}
-    active = keys.key_blocks[min(ob.active_shape_key_index, len(keys.key_blocks) - 1)].name
-    _move_base(mesh, base, skip={kb.name} | set(moved))
-    for name, co in moved.items():
-        mesh_arrays.write_key(keys.key_blocks[name], co)
-        keys.key_blocks[name].relative_key = keys.reference_key
-    ob.shape_key_remove(kb)
-    keys = mesh.shape_keys
-    if keys is not None:
-        if len(keys.key_blocks) == 1 and _state(mesh).made_key_datablock:
-            ob.shape_key_clear()   # only the Basis the add-on added is left
-        elif active in keys.key_blocks:
-            ob.active_shape_key_index = keys.key_blocks.find(active)
 
 
 def is_bound(mesh):
     """Has this mesh a binding (cached solver, or a result it holds)? What the panel's
     Bind/Unbind swap shows; the same test Unbind uses to say whether it did anything."""
-    return session.get(mesh.as_pointer()) is not None or _state(mesh).output != 'NONE'
+    return solver_cache.is_cached(mesh) or mesh.edge_deform_state.output != 'NONE'
 
 
 def unbind(ob):
     """Forget the cache and the stored rest: the mesh as it is becomes the rest. The
     output key stays the add-on's (the next solve writes it again)."""
     mesh = ob.data
-    st = _state(mesh)
+    st = mesh.edge_deform_state
     was = is_bound(mesh)
-    session.drop(mesh.as_pointer())
+    solver_cache.forget(mesh)
     mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
     handle_holds.clear(mesh)
     if st.output == 'MESH':
@@ -494,116 +208,8 @@ def unbind(ob):
     return was
 
 
-def forget_cache(mesh):
-    """The next solve of this mesh starts cold (a tool ended or was cancelled)."""
-    binding = session.get(mesh.as_pointer())
-    if binding is not None:
-        binding.start_cold()
-
-
-def note_unheld_edit(mesh, count):
-    """Grab Deform placed `count` vertices that no handle holds: a solve from the handles
-    will move them (Live says so before it does)."""
-    _state(mesh).unheld = int(count)
-
-
 def record_rest_transforms(ob):
     """The controllers' current transforms become their rest (Bind, Apply)."""
     for h in ob.edge_deform.handles:
         if h.controller is not None:
             h.rest_matrix = engine.controller_rest(ob, h.controller)
-
-
-# ------------------------------------------------------------------ cancel: exact restore
-
-class Snapshot:
-    """Everything a modal tool may change, for a bit-exact cancel: the vertices, every
-    shape key (positions, value, mute), the active key, the stored state and rest, and a
-    full copy of the mesh for when the topology changed meanwhile (an edit during Live)."""
-
-    def __init__(self, ob):
-        mesh = ob.data
-        self.mesh = mesh
-        self.digest = mesh_arrays.topology_digest(mesh)
-        self.co = mesh_arrays.read_positions32(mesh)
-        keys = mesh.shape_keys
-        self.keys = None if keys is None else [
-            (kb.name, mesh_arrays.read_key(kb), kb.value, kb.mute) for kb in keys.key_blocks]
-        self.active = ob.active_shape_key_index
-        st = _state(mesh)
-        self.state = {name: getattr(st, name) for name in STATE_FIELDS}
-        self.rest = mesh_arrays.read_vector_attribute(mesh, REST_ATTRIBUTE)
-        self.copy = mesh.copy()
-
-    def _arrays_fit(self, mesh):
-        if mesh_arrays.topology_digest(mesh) != self.digest:
-            return False
-        names = [] if mesh.shape_keys is None else mesh.shape_keys.key_blocks.keys()
-        return self.keys is None or all(k[0] in names for k in self.keys)
-
-    def restore(self, ob):
-        """Put the mesh back as it was (the object must be in Object Mode, or deleted:
-        ob None). Returns the mesh, which is a new datablock after a topology change."""
-        mesh = self.mesh
-        if not self._arrays_fit(mesh):
-            name = mesh.name
-            mesh.user_remap(self.copy)   # every object using the mesh gets the copy
-            bpy.data.meshes.remove(mesh)
-            self.copy.name = name
-            self.mesh, self.copy = self.copy, None
-            return self.mesh
-        mesh_arrays.write_positions(mesh, self.co)
-        with _any_object(ob, mesh) as owner:
-            keys = mesh.shape_keys
-            if self.keys is None:
-                if keys is not None:
-                    owner.shape_key_clear()
-            else:
-                names = [k[0] for k in self.keys]
-                for kb in [kb for kb in keys.key_blocks if kb.name not in names]:
-                    owner.shape_key_remove(kb)
-                for name, co, value, mute in self.keys:
-                    kb = keys.key_blocks[name]
-                    mesh_arrays.write_key(kb, co)
-                    kb.value, kb.mute = value, mute
-                owner.active_shape_key_index = self.active
-                keys.update_tag()
-        st = _state(mesh)
-        for name, value in self.state.items():
-            setattr(st, name, value)
-        if self.rest is None:
-            mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
-        else:
-            mesh_arrays.write_vector_attribute(mesh, REST_ATTRIBUTE, self.rest)
-        mesh.update()
-        session.drop(mesh.as_pointer())
-        return mesh
-
-    def discard(self):
-        """Free the copy (the tool ended). Safe after undo removed it."""
-        copy, self.copy = self.copy, None
-        try:
-            if copy is not None and copy.name in bpy.data.meshes \
-                    and bpy.data.meshes[copy.name] == copy:
-                bpy.data.meshes.remove(copy)
-        except ReferenceError:
-            pass
-
-
-class _any_object:
-    """An object using `mesh` for the Object-level shape-key calls: `ob`, or a temporary
-    one when the object was deleted and only the mesh is left."""
-
-    def __init__(self, ob, mesh):
-        self.ob, self.mesh, self.temporary = ob, mesh, None
-
-    def __enter__(self):
-        if self.ob is not None and self.ob.data == self.mesh:
-            return self.ob
-        self.temporary = bpy.data.objects.new(".EdgeDeformRestore", self.mesh)
-        return self.temporary
-
-    def __exit__(self, *exc):
-        if self.temporary is not None:
-            bpy.data.objects.remove(self.temporary)
-        return False

@@ -26,6 +26,10 @@ class Live(enum.Enum):
     AT_REST = "at rest"        # settled, or gave up settling: watch for changes only
     PAUSED = "paused"          # the object is in another mode (Blender's tools own it)
     REFUSED = "refused"        # a check or solve failed: wait until the user changes a fix
+    REBINDING = "rebinding"    # check and read the settings and groups again before solving
+                               # (after a pause or a refusal, a change of the groups or of
+                               # Output, a deleted controller); Live holds no solver until
+                               # it is done
     SWITCHING = "switching"    # building the new domain's graph, one stage per tick
 
 
@@ -37,20 +41,27 @@ class LiveEvent(enum.Enum):
     MODE_BACK = "mode back"          # ... and came back
     FAILED = "failed"                # a refusal or a solver error
     RETRY = "retry"                  # what the user can fix changed since the refusal
+    REBIND = "rebind"                # groups, Output or a controller changed: bind again
+    BOUND = "bound"                  # the rebind's checks passed: a new solver is ready
     SWITCH = "switch"                # the domain setting differs from the graph's
     SWITCH_ENDED = "switch ended"    # the new graph is ready, or the switch stopped
 
 
 _LIVE = {
     Live.HOLDING: {LiveEvent.CHANGED: Live.SOLVING, LiveEvent.MODE_LEFT: Live.PAUSED,
-                   LiveEvent.FAILED: Live.REFUSED, LiveEvent.SWITCH: Live.SWITCHING},
+                   LiveEvent.FAILED: Live.REFUSED, LiveEvent.SWITCH: Live.SWITCHING,
+                   LiveEvent.REBIND: Live.REBINDING},
     Live.SOLVING: {LiveEvent.CHANGED: Live.SOLVING, LiveEvent.ITERATED: Live.SOLVING,
                    LiveEvent.SETTLED: Live.AT_REST, LiveEvent.MODE_LEFT: Live.PAUSED,
-                   LiveEvent.FAILED: Live.REFUSED, LiveEvent.SWITCH: Live.SWITCHING},
+                   LiveEvent.FAILED: Live.REFUSED, LiveEvent.SWITCH: Live.SWITCHING,
+                   LiveEvent.REBIND: Live.REBINDING},
     Live.AT_REST: {LiveEvent.CHANGED: Live.SOLVING, LiveEvent.MODE_LEFT: Live.PAUSED,
-                   LiveEvent.FAILED: Live.REFUSED, LiveEvent.SWITCH: Live.SWITCHING},
-    Live.PAUSED: {LiveEvent.MODE_BACK: Live.SOLVING},
-    Live.REFUSED: {LiveEvent.RETRY: Live.SOLVING, LiveEvent.MODE_LEFT: Live.PAUSED},
+                   LiveEvent.FAILED: Live.REFUSED, LiveEvent.SWITCH: Live.SWITCHING,
+                   LiveEvent.REBIND: Live.REBINDING},
+    # The topology may have changed in another mode: bind again.
+    Live.PAUSED: {LiveEvent.MODE_BACK: Live.REBINDING},
+    Live.REFUSED: {LiveEvent.RETRY: Live.REBINDING, LiveEvent.MODE_LEFT: Live.PAUSED},
+    Live.REBINDING: {LiveEvent.BOUND: Live.SOLVING, LiveEvent.FAILED: Live.REFUSED},
     Live.SWITCHING: {LiveEvent.SWITCH_ENDED: Live.SOLVING},
 }
 

@@ -1,50 +1,14 @@
-"""Animation: a frame-change handler that deforms on every frame, and `bake`, which stores
-a frame range as shape keys keyed over time (one key per frame, weight 1 on its frame and
-0 on its neighbours, so playback interpolates linearly between solved frames)."""
+"""`bake`: stores a frame range as shape keys keyed over time (one key per frame, weight 1
+on its frame and 0 on its neighbours, so playback interpolates linearly between solved
+frames). Deforming on every frame without baking is frame_handler.py's."""
 
 import bpy
-from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, IntProperty
 
-from . import engine, lifecycle, tool_guard
-from .op_common import (StepsJob, deformed_object, error_text, guarded, poll_mesh, run_steps,
-                        tell)
-
-_state = {"baking": False, "errors": {}}
-
-
-def frame_problem(ob):
-    """The last error of the frame handler for `ob` (shown in the panel), or None."""
-    return _state["errors"].get(ob.name_full)
-
-
-@persistent
-def on_frame_change(scene, depsgraph=None):
-    """Re-solve objects with 'Deform on Frame Change' (warm-started from the last frame)."""
-    if _state["baking"]:
-        return
-    # A render job may call this off the main thread; bpy data must not be written then.
-    if hasattr(bpy.app, "is_job_running") and bpy.app.is_job_running('RENDER'):
-        return
-    # During playback the groups cannot change: skip re-reading them every frame.
-    screen = getattr(bpy.context, "screen", None)
-    playing = bool(screen is not None and screen.is_animation_playing)
-    for ob in scene.objects:
-        s = getattr(ob, "edge_deform", None)
-        if ob.type != 'MESH' or s is None or not s.animate or not s.handles \
-                or ob.mode != 'OBJECT' or tool_guard.busy(ob):
-            continue
-        try:
-            solver, _ = lifecycle.deform(ob, warm=True, reuse_inputs=playing)
-            problem = "; ".join(solver.warnings()) or None
-        except Exception as exc:  # noqa: BLE001 - a handler must never raise
-            problem = error_text(exc)
-        if problem is None:
-            _state["errors"].pop(ob.name_full, None)
-        elif _state["errors"].get(ob.name_full) != problem:   # say it once
-            _state["errors"][ob.name_full] = problem
-            print("Edge Deform (%s, frame %d): %s" % (ob.name, scene.frame_current, problem))
-
+from . import engine, frame_handler, lifecycle, output, solver_cache, tool_guard
+from .jobs import StepsJob
+from .op_common import deformed_object, guarded, poll_mesh, tell
+from .progress import run_steps
 
 class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
     """Solve every frame of a range and store the results as shape keys keyed over time"""
@@ -81,18 +45,18 @@ class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
         self.frame0 = self.scene.frame_current
         self.results = []
         self.solver = lifecycle.prepare(self.ob)
-        self.solver.binding.start_cold()   # the first frame solves from scratch
+        solver_cache.start_cold(self.ob.data)   # the first frame solves from scratch
 
     def solve_next(self):
         """Solve the next frame (the frame handler is held off meanwhile)."""
-        _state["baking"] = True
-        try:
-            self.scene.frame_set(self.todo[len(self.results)])
-            self.results.append(self.solver.solve(self.solver.targets(), self.iterations,
-                                                  self.ob.edge_deform.tolerance).positions)
-        finally:
-            self.scene.frame_set(self.frame0)
-            _state["baking"] = False
+        with frame_handler.held_off():
+            try:
+                self.scene.frame_set(self.todo[len(self.results)])
+                self.results.append(self.solver.solve(
+                    self.solver.targets(), self.iterations,
+                    self.ob.edge_deform.tolerance).positions)
+            finally:
+                self.scene.frame_set(self.frame0)
 
     def steps(self):
         """Solve every frame, one per step; the keys are written only after the last."""
@@ -104,7 +68,7 @@ class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
 
     def job_done(self, context, _):
         ob, s = self.ob, self.ob.edge_deform
-        made = lifecycle.write_baked(ob, self.todo, self.results, self.frame_step)
+        made = output.write_baked(ob, self.todo, self.results, self.frame_step)
         s.animate = False
         self.scene.frame_set(self.frame0)
         tell(self, 'INFO', "Baked %d frames (%d-%d) into shape keys '%s.####'"
@@ -127,16 +91,6 @@ class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
         "Frame 12/24" and Esc cancels with the data as before."""
         self.begin(context)
         return self.start_job(context, "Baking %d frames…" % len(self.todo), self.steps())
-
-
-def register_handlers():
-    if on_frame_change not in bpy.app.handlers.frame_change_post:
-        bpy.app.handlers.frame_change_post.append(on_frame_change)
-
-
-def unregister_handlers():
-    if on_frame_change in bpy.app.handlers.frame_change_post:
-        bpy.app.handlers.frame_change_post.remove(on_frame_change)
 
 
 CLASSES = (EDGE_DEFORM_OT_bake,)

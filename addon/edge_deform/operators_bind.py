@@ -7,8 +7,10 @@ import bpy
 from bpy.props import BoolProperty
 
 from . import engine, lifecycle, tool_guard
-from .op_common import (StepsJob, busy, deformed_object, guarded, poll_mesh, redraw_views,
-                        report_lines, run_steps, tell)
+from .jobs import StepsJob
+from .op_common import (deformed_object, guarded, poll_mesh, redraw_views, report_lines,
+                        tell)
+from .progress import busy, run_steps
 
 
 class EDGE_DEFORM_OT_bind(StepsJob, bpy.types.Operator):

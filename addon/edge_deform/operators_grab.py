@@ -20,9 +20,11 @@ import numpy as np
 from bpy_extras.view3d_utils import region_2d_to_location_3d
 from mathutils import Vector
 
-from . import compat, engine, handle_holds, lifecycle, mesh_arrays, settle, shown_shape
+from . import (compat, engine, handle_holds, lifecycle, mesh_arrays, output, output_checks,
+               settle, shown_shape)
 from .modal_states import Grab, GrabEvent, grab_next
-from .op_common import ModalTool, error_text, guarded, over_the_view, poll_mesh, tell
+from .modal_tool import ModalTool
+from .op_common import error_text, guarded, over_the_view, poll_mesh, tell
 
 AXES = {'X': 0, 'Y': 1, 'Z': 2}
 NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'TRACKPADPAN',
@@ -226,7 +228,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
 
     def keep_the_edit(self):
         """Confirmed: handles whose vertices were dragged hold them where they are now;
-        the dragged vertices no handle holds are counted (lifecycle.note_unheld_edit)."""
+        the dragged vertices no handle holds are counted (output.note_unheld_edit)."""
         if self.written is None or self.lost():
             return
         inputs, mesh = self.solver.inputs, self.ob.data
@@ -238,12 +240,12 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
                     self.ob.matrix_world.inverted_safe() @ g.controller.matrix_world
                     @ g.rest_inverse)
                 handle_holds.hold(mesh, rest, dragged, self.written[dragged], motion)
-        lifecycle.note_unheld_edit(mesh, np.setdiff1d(self.moving, inputs.handles).size)
+        output.note_unheld_edit(mesh, np.setdiff1d(self.moving, inputs.handles).size)
 
     def show_output_in_edit_mode(self):
         """Edit Mode shows (and edits) the active shape key: make it the output key, so
         the artist sees the mesh as dragged (Esc's snapshot keeps the previous one)."""
-        kb = lifecycle.owned_key(self.ob.data)
+        kb = output_checks.owned_key(self.ob.data)
         if self.ob.edge_deform.output == 'SHAPE_KEY' and kb is not None:
             index = self.ob.data.shape_keys.key_blocks.find(kb.name)
             if self.ob.active_shape_key_index != index:

@@ -9,7 +9,7 @@ import numpy as np
 from bpy.props import EnumProperty, FloatProperty, StringProperty
 from mathutils import Matrix, Vector
 
-from . import compat, engine, handle_holds, lifecycle, mesh_arrays, shown_shape
+from . import compat, engine, handle_holds, mesh_arrays, output_checks, shown_shape
 from .op_common import object_mode, poll_mesh, tell
 
 PRESETS = {'SOFT': 0.0, 'MEDIUM': 0.5, 'RIGID': 1.0}
@@ -79,7 +79,7 @@ def hold_where_shown(ob, idx, where):
     """The new handle holds its vertices where they are shown (handle_holds.py). Without
     a readable rest (a broken Mesh output) it holds the rest: the next solve says why."""
     try:
-        rest = lifecycle.rest_shape(ob.data)
+        rest = output_checks.rest_shape(ob.data)
     except engine.EdgeDeformError:
         return
     handle_holds.hold(ob.data, rest, idx, where)

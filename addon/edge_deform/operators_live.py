@@ -23,17 +23,19 @@ Object Mode it binds again (the topology may have changed). Undo or the object's
 end it cleanly.
 
 A domain change (from the panel) needs a new graph, built and factored: seconds on a big
-mesh. Live runs it as stages, one per tick (op_common.Stages): the status bar names each
+mesh. Live runs it as stages, one per tick (progress.Stages): the status bar names each
 stage before it runs, with the progress and the wait cursor; Esc between stages keeps the
 previous domain and its graph, the mesh untouched (nothing is written until it is done).
 """
 
 import bpy
 
-from . import engine, lifecycle, live_selection, overlay, preferences, settle, shown_shape
+from . import (engine, lifecycle, live_selection, overlay, preferences, settle, shown_shape,
+               solver_cache)
 from .modal_states import Live, LiveEvent, live_next
-from .op_common import (ModalTool, Stages, deformed_object, error_text, guarded,
-                        over_the_view, poll_mesh, tell)
+from .modal_tool import ModalTool
+from .op_common import deformed_object, error_text, guarded, over_the_view, poll_mesh, tell
+from .progress import Stages
 
 LAMBDA_STEP = 0.05
 # The settings Live reads, by what a change needs: a new read of the groups and a rebind,
@@ -77,7 +79,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.state = Live.HOLDING if unheld else Live.SOLVING
         self.seen_settings = self.watched_settings(ob)
         self.seen_controllers = None
-        self.switch = None          # a domain switch in progress (Stages), see start_switch
+        self.switch = None          # while SWITCHING: the switch's stages (start_switch)
         self.refused_for = None     # what the user could fix, when the refusal came
         self.problem = None
         self.status_text = "no solve yet"
@@ -140,11 +142,11 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             if self.refused_for == self.fixable():
                 return                  # wait until the user changes something
             self.go(LiveEvent.RETRY)
-            self.solver = None
         elif self.state == Live.PAUSED:
             self.go(LiveEvent.MODE_BACK)
-            self.solver = None          # the topology may have changed: bind again
         try:
+            if self.state == Live.REBINDING:
+                self.rebind()
             self.follow_changes(context)
             self.follow_selection(context)
             if self.state == Live.SWITCHING:
@@ -152,7 +154,9 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             if self.state in (Live.AT_REST, Live.HOLDING):
                 self.settle.rested()
                 return
-            if self.settle.at_rest:     # (nothing changed since it settled)
+            # Nothing changed since it settled (a stopped domain switch comes back here
+            # with the settle it had): say so, do not iterate.
+            if self.settle.at_rest:
                 self.go(LiveEvent.SETTLED)
                 return
             targets = self.solver.targets()
@@ -188,7 +192,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         ob, s = self.ob, self.ob.edge_deform
         settings = self.watched_settings(ob)
         changed = settings != self.seen_settings
-        if (self.solver is None or lifecycle.output_settings(ob) != self.solver.output
+        if (lifecycle.output_settings(ob) != self.solver.output
                 or settings[1] != self.seen_settings[1]
                 or any(settings[0][n] != self.seen_settings[0][n] for n in REBIND_SETTINGS)):
             self.rebind()
@@ -230,14 +234,18 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                 ob.data.edge_deform_state.written, tuple(map(tuple, ob.matrix_world)), moves)
 
     def rebind(self):
-        """After a mode switch, a change of groups or Output, or a deleted controller:
-        check and read everything again."""
+        """Check and read everything again (Live.REBINDING): back from another mode, a
+        refusal retried, a change of groups or Output, a deleted controller. A refusal
+        leaves Live without a solver, in REFUSED, until the next retry binds again."""
+        if self.state != Live.REBINDING:
+            self.go(LiveEvent.REBIND)
         self.solver = None
         self.solver = lifecycle.prepare(self.ob)
         self.seen_settings = self.watched_settings(self.ob)
         self.seen_controllers = None
         for w in self.solver.warnings():
             tell(self, 'WARNING', w)
+        self.go(LiveEvent.BOUND)
 
     # ------------------------------------------------------------ domain switch
 
@@ -287,9 +295,8 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             "edge" if self.switch_from == 'EDGE' else "vertex"))
 
     def end_modal(self, context):
-        if self.switch is not None:   # (any way out: the progress and cursor end too)
+        if self.state == Live.SWITCHING:   # (any way out: the progress and cursor end too)
             self.switch.stop()
-            self.switch = None
         text = getattr(self, "text", None)
         if text is not None:
             text.remove()
@@ -357,7 +364,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                                 "Esc cancels)")
             return {'RUNNING_MODAL'}
         if event.value == 'PRESS' and event.type == 'ESC':
-            if self.switch is not None:
+            if self.state == Live.SWITCHING:
                 self.cancel_switch()
                 return {'RUNNING_MODAL'}
             return self.cancel_and_restore(context)
@@ -375,13 +382,13 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.update(context)
 
     def finish(self, context):
-        while self.switch is not None:   # Enter during a domain switch: complete it
+        while self.state == Live.SWITCHING:   # Enter during a domain switch: complete it
             self.advance_switch()
         self.update(context)   # the last controller move may not be solved yet
         self.end_modal(context)
         self.snapshot.discard()
         self.surroundings.give_back(cancelled=False)
-        lifecycle.forget_cache(self.ob.data)
+        solver_cache.start_cold(self.ob.data)
         tell(self, 'INFO', self.end_report())
         return {'FINISHED'}
 

@@ -6,6 +6,12 @@ from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProp
 
 from . import engine, solve_method
 
+# The core's defaults that two settings start from. The package loads lazily (the add-on
+# registers without it and says why at the first solve), so they cannot be read from it
+# here; test_manual_defaults.py checks them against the package.
+CORE_TOLERANCE = 1e-3   # edgedeform.SOLVE_DEFAULTS["tolerance"]
+CORE_STIFFNESS = 0.5    # a new Deformer's λ, before set_stiffness
+
 IDENTITY = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0),
             (0.0, 0.0, 1.0, 0.0), (0.0, 0.0, 0.0, 1.0))
 
@@ -63,7 +69,7 @@ class EdgeDeformSettings(bpy.types.PropertyGroup):
         description="Paintable stiffness: each vertex's weight is its λ (red 1 rigid, blue "
                     "0 soft). Overrides the λ slider; vertices outside the group are soft")
     stiffness: FloatProperty(
-        name="Stiffness λ", default=0.5, min=0.0, max=1.0,
+        name="Stiffness λ", default=CORE_STIFFNESS, min=0.0, max=1.0,
         description="How stiff the whole mesh is: 1 = rigid, keeps its shape and edge "
                     "lengths; 0 = soft, bends smoothly like rubber")
     domain: EnumProperty(
@@ -78,7 +84,7 @@ class EdgeDeformSettings(bpy.types.PropertyGroup):
         description="Refinement passes per update: more passes match the stiffness more "
                     "closely but take longer")
     tolerance: FloatProperty(
-        name="Tolerance", default=1e-3, min=0.0, max=1.0, precision=6,
+        name="Tolerance", default=CORE_TOLERANCE, min=0.0, max=1.0, precision=6,
         description="How close to the final shape counts as settled, as a fraction of the "
                     "object's size (smaller: more accurate, slower)")
     acceleration: EnumProperty(

@@ -3,8 +3,8 @@
 Keyed by the mesh datablock pointer; each entry also remembers the topology (counts and a
 digest) and the settings it was built from, so a stale entry is rebuilt, never reused.
 Entries are plain Python objects: they die with the session, and nothing here touches bpy.
-Only lifecycle.py uses this cache (it decides when an entry may be trusted); a Binding's
-state changes only through its methods.
+Only solver_cache.py reads or writes the entries (it decides when one may be trusted, and
+is the one way to forget one); a Binding's state changes only through its methods.
 """
 
 import enum

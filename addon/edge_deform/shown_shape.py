@@ -12,15 +12,15 @@ the live key hidden under it.
 
 import numpy as np
 
-from . import lifecycle, mesh_arrays
+from . import mesh_arrays, output_checks
 
 
 def _addon_keys(ob):
     """The add-on's keys that add to what is shown, with their weights."""
     mesh = ob.data
     keys = mesh.shape_keys
-    ours = [lifecycle.owned_key(mesh)] + [keys.key_blocks.get(name)
-                                           for name in lifecycle.baked_key_names(mesh)]
+    ours = [output_checks.owned_key(mesh)] + [keys.key_blocks.get(name)
+                                           for name in output_checks.baked_key_names(mesh)]
     ours = [kb for kb in ours if kb is not None and kb != keys.reference_key]
     if ob.show_only_shape_key:   # pinned: the active key alone, at full weight
         active = ob.active_shape_key
@@ -36,7 +36,7 @@ def addon_shape(ob):
     if keys is None:
         return base
     if not keys.use_relative:   # absolute keys blend by time: the add-on's key, as before
-        kb = lifecycle.owned_key(mesh)
+        kb = output_checks.owned_key(mesh)
         return base if kb is None else mesh_arrays.read_key(kb).astype(np.float64)
     shape = base.copy()
     for kb, weight in _addon_keys(ob):

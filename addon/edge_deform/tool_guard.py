@@ -5,13 +5,13 @@ shape of their own under the tool's "settled" (docs/decisions/0040). The frame h
 leaves such a mesh alone too: Live follows animated controllers itself.
 """
 
-from . import engine, op_common
+from . import engine, modal_tool
 
 
 def refuse_while_a_tool_runs(ob, action):
     """Raise EdgeDeformError naming the running tool and what to do, before `action`
     (the operator's name, e.g. "Solve") changes anything."""
-    tool = op_common.running_tool(ob)
+    tool = modal_tool.running_tool(ob)
     if tool is None:
         return
     text = ("%s is running on '%s' and deforms it already: press Enter over the view to "
@@ -24,4 +24,4 @@ def refuse_while_a_tool_runs(ob, action):
 
 def busy(ob):
     """Is a modal tool deforming `ob` now (the frame handler then leaves it alone)?"""
-    return op_common.running_tool(ob) is not None
+    return modal_tool.running_tool(ob) is not None

@@ -10,7 +10,7 @@ get the mesh as their `active_object` (layout.context_pointer_set).
 
 import bpy
 
-from . import compat, lifecycle, op_common, operators_bake
+from . import compat, frame_handler, lifecycle, modal_tool, op_common
 
 
 # (Kept here too: the panel and its tests speak of it.)
@@ -62,63 +62,12 @@ class EDGE_DEFORM_UL_handles(bpy.types.UIList):
         row.label(text="", icon='EMPTY_AXIS' if item.controller else 'ERROR')
 
 
-class EDGE_DEFORM_OT_select_controller(bpy.types.Operator):
-    """Make the active handle's controller the active, only selected object, ready to move
-    with G/R/S or its gizmo (the Edge Deform tab stays open)"""
-    bl_idname = "edge_deform.select_controller"
-    bl_label = "Select Controller"
-    bl_options = {'REGISTER', 'UNDO'}
-
-    @classmethod
-    def poll(cls, context):
-        return op_common.poll_mesh(cls, context, ('OBJECT',), need_handles=True)
-
-    def execute(self, context):
-        ob = context.active_object
-        s = ob.edge_deform
-        controller = s.handles[min(s.active_handle, len(s.handles) - 1)].controller
-        if controller is None:
-            op_common.tell(self, 'ERROR', "This handle has no controller")
-            return {'CANCELLED'}
-        if controller.name not in context.view_layer.objects:
-            op_common.tell(self, 'ERROR', "The controller is not in this view layer")
-            return {'CANCELLED'}
-        for other in context.view_layer.objects:
-            if other is not None and other != controller:
-                other.select_set(False)
-        controller.select_set(True)
-        context.view_layer.objects.active = controller
-        return {'FINISHED'}
-
-
-class EDGE_DEFORM_OT_select_mesh(bpy.types.Operator):
-    """Make the deformed mesh active again (after moving one of its controllers)"""
-    bl_idname = "edge_deform.select_mesh"
-    bl_label = "Select Mesh"
-    bl_options = {'REGISTER', 'UNDO'}
-
-    @classmethod
-    def poll(cls, context):
-        return op_common.poll_mesh(cls, context, ('OBJECT',))
-
-    def execute(self, context):
-        ob = context.active_object
-        if ob.name not in context.view_layer.objects:
-            return {'CANCELLED'}
-        for other in context.view_layer.objects:
-            if other is not None and other != ob:
-                other.select_set(False)
-        ob.select_set(True)
-        context.view_layer.objects.active = ob
-        return {'FINISHED'}
-
-
 class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
     bl_label = "Edge Deform"
 
     def draw_header(self, context):
         ob = deformed_object(context)
-        if ob is not None and operators_bake.frame_problem(ob):
+        if ob is not None and frame_handler.frame_problem(ob):
             self.layout.label(text="", icon='ERROR')
 
     def draw(self, context):
@@ -133,7 +82,7 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
             row.label(text=ob.name, icon='OUTLINER_OB_MESH')
             row.operator("edge_deform.select_mesh", text="", icon='RESTRICT_SELECT_OFF')
 
-        running = op_common.running_tool(ob)
+        running = modal_tool.running_tool(ob)
         if running:
             col = layout.column(align=True)
             col.label(text="%s on" % running.bl_label, icon='REC')
@@ -165,7 +114,7 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
         row = col.row(align=True)
         row.operator("edge_deform.solve", icon='FILE_REFRESH')
         row.operator("edge_deform.apply", icon='CHECKMARK')
-        problem = operators_bake.frame_problem(ob) if s.animate else None
+        problem = frame_handler.frame_problem(ob) if s.animate else None
         if problem:
             layout.label(text=problem, icon='ERROR')
 
@@ -287,13 +236,12 @@ class EDGE_DEFORM_PT_animation(_SubPanel, bpy.types.Panel):
         ob = target(self.layout, context)
         s = ob.edge_deform
         layout.prop(s, "animate", text="Every Frame")   # (the full name: the tooltip)
-        problem = operators_bake.frame_problem(ob) if s.animate else None
+        problem = frame_handler.frame_problem(ob) if s.animate else None
         if problem:
             layout.label(text=problem, icon='ERROR')
         layout.operator("edge_deform.bake", icon='REC')
 
 
-CLASSES = (EDGE_DEFORM_UL_handles, EDGE_DEFORM_OT_select_controller,
-           EDGE_DEFORM_OT_select_mesh, EDGE_DEFORM_PT_main, EDGE_DEFORM_PT_handles,
+CLASSES = (EDGE_DEFORM_UL_handles, EDGE_DEFORM_PT_main, EDGE_DEFORM_PT_handles,
            EDGE_DEFORM_PT_groups, EDGE_DEFORM_PT_stiffness, EDGE_DEFORM_PT_solver,
            EDGE_DEFORM_PT_animation)

@@ -85,7 +85,7 @@ def test_bake():
 def test_snapshot_restores_bit_exact():
     """The modal tools' cancel: after writes in either output mode, with or without a
     user's shape key, everything is back bit-exact (keys, value, stored state)."""
-    from edge_deform import lifecycle
+    from edge_deform import lifecycle, output_checks, snapshot
     ob, ctrl, rest_matrix, handle, static, rest = setup()
     noise = np.random.default_rng(1).normal(size=rest.shape)
     for output in ('SHAPE_KEY', 'MESH'):
@@ -99,7 +99,7 @@ def test_snapshot_restores_bit_exact():
             ob.edge_deform.output = output
             before_base = positions(ob.data).copy()
             before_key = key_positions(ob, "Mine").copy() if had_key else None
-            snap = lifecycle.Snapshot(ob)
+            snap = snapshot.Snapshot(ob)
             for _ in range(2):
                 lifecycle.prepare(ob).write(rest + noise)
             shown = positions(ob.data) if output == 'MESH' else key_positions(ob)
@@ -108,7 +108,7 @@ def test_snapshot_restores_bit_exact():
             snap.discard()
             assert np.array_equal(positions(ob.data), before_base), (output, had_key)
             assert ob.data.edge_deform_state.output == 'NONE'
-            assert ob.data.attributes.get(lifecycle.REST_ATTRIBUTE) is None
+            assert ob.data.attributes.get(output_checks.REST_ATTRIBUTE) is None
             if had_key:
                 assert ob.data.shape_keys.key_blocks.keys() == ["Basis", "Mine"]
                 assert np.array_equal(key_positions(ob, "Mine"), before_key)

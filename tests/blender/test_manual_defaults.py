@@ -1,7 +1,8 @@
 """Background test: every default the manual (docs/addon.md, "Scripting contract") states
 equals the add-on's. Reads the defaults from the table's "default X" cells (and from
 "(defaults A and B)" phrasing, so an old wording cannot hide a wrong figure) and compares
-each with the property's own default."""
+each with the property's own default; and the defaults the add-on mirrors from the core
+(properties.CORE_*) equal the package's."""
 
 import os
 import re
@@ -79,5 +80,19 @@ def test_manual_states_the_code_defaults():
     print("  manual defaults checked:", sorted(checked))
 
 
+def test_core_defaults_are_the_packages():
+    from edge_deform import native, properties
+    ed = native.get()
+    props = bpy.types.Object.bl_rna.properties["edge_deform"].fixed_type.properties
+    assert properties.CORE_TOLERANCE == ed.SOLVE_DEFAULTS["tolerance"], ed.SOLVE_DEFAULTS
+    # (Blender stores a float property's default as a float32.)
+    assert abs(props["tolerance"].default - properties.CORE_TOLERANCE) < 1e-9
+    X = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (1.0, 1.0, 0.0)]
+    for domain in ("edge", "primal"):
+        d = ed.Deformer(X, [(0, 1, 2), (1, 3, 2)], domain=domain)
+        assert set(d.node_stiffness().tolist()) == {properties.CORE_STIFFNESS}, domain
+    assert abs(props["stiffness"].default - properties.CORE_STIFFNESS) < 1e-9
+
+
 if __name__ == "__main__":
-    run([test_manual_states_the_code_defaults])
+    run([test_manual_states_the_code_defaults, test_core_defaults_are_the_packages])

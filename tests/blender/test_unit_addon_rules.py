@@ -2,6 +2,12 @@
   - every mode switch goes through compat.mode_set (Blender 5.0.1's crash guard);
   - foreach_get/foreach_set appear only in mesh_arrays.py (one place moves bpy arrays);
   - messages reach the user only through op_common.tell (where the tests listen);
+  - only solver_cache.py uses the solver cache (session.py): one owner decides when a
+    Binding is trusted and forgets it;
+  - panels and lists are drawn only in ui.py, which defines no operator;
+  - every module says in its docstring what it is for;
+  - module-level state (a mutable global) lives only in the module that owns it, listed
+    here with its job: a new one must be added on purpose;
   - the modules the benchmark and the unit tests load by path import nothing from bpy.
 
     /usr/bin/python3 -m pytest tests/blender/test_unit_addon_rules.py
@@ -57,6 +63,77 @@ def test_messages_go_through_tell():
     outside = {name: attribute_calls(tree, "report") for name, tree in sources() if name != "op_common.py"}
     outside = {k: v for k, v in outside.items() if v}
     assert not outside, "report() outside op_common.tell: %s" % outside
+
+
+def imported_addon_modules(tree):
+    """The add-on's own modules a source imports (`from . import a, b`, `from .a import x`)."""
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.level == 1:
+            if node.module:
+                names.add(node.module.split(".")[0])
+            else:
+                names.update(alias.name for alias in node.names)
+    return names
+
+
+def test_only_solver_cache_uses_the_session_cache():
+    users = sorted(name for name, tree in sources() if "session" in imported_addon_modules(tree))
+    assert users == ["solver_cache.py"], users
+
+
+def base_names(tree):
+    """{class name: the last part of each base's name} of a module's top-level classes."""
+    return {node.name: [b.attr if isinstance(b, ast.Attribute) else getattr(b, "id", "")
+                        for b in node.bases]
+            for node in tree.body if isinstance(node, ast.ClassDef)}
+
+
+def test_panels_only_in_ui():
+    for name, tree in sources():
+        kinds = {base for bases in base_names(tree).values() for base in bases}
+        if name == "ui.py":
+            assert "Operator" not in kinds, "ui.py draws; operators live in operators_*.py"
+        else:
+            assert not kinds & {"Panel", "UIList"}, "%s draws a panel: ui.py's job" % name
+
+
+def test_every_module_says_what_it_is_for():
+    missing = [name for name, tree in sources() if not ast.get_docstring(tree)]
+    assert not missing, missing
+
+
+# The add-on's module-level state, each piece in the one module that changes it.
+OWNED_STATE = {
+    "__init__.py": {"bl_info"},              # Blender's metadata (register sets the manual)
+    "cache_handlers.py": {"_generation"},    # undo/redo/load count the tools compare
+    "frame_handler.py": {"_problems", "_holds"},   # its last problem per object; Bake's hold
+    "modal_tool.py": {"_running"},           # the modal tool running (one at a time)
+    "native.py": {"_module"},                # the loaded package
+    "op_common.py": {"listeners"},           # who hears every message (the tests)
+    "progress.py": {"progress_listeners"},   # who hears long work's progress (the tests)
+    "session.py": {"_bindings"},             # the solver cache (solver_cache.py's)
+}
+
+
+def module_state(tree):
+    """Lower-case names bound at module level to a list, dict or set, and names a function
+    declares `global`."""
+    names = set()
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and isinstance(node.value, (ast.List, ast.Dict, ast.Set)):
+            names.update(t.id for t in node.targets
+                         if isinstance(t, ast.Name) and not t.id.isupper())
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Global):
+            names.update(node.names)
+    return names
+
+
+def test_module_state_has_one_owner():
+    found = {name: module_state(tree) for name, tree in sources()}
+    found = {name: names for name, names in found.items() if names}
+    assert found == OWNED_STATE, found
 
 
 def test_path_loaded_modules_are_bpy_free():

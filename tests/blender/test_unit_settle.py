@@ -230,8 +230,15 @@ def test_live_transitions():
     assert s == L.AT_REST
     assert go(s, E.CHANGED) == L.SOLVING
     assert go(s, E.MODE_LEFT) == L.PAUSED
-    assert go(L.PAUSED, E.MODE_BACK) == L.SOLVING
-    assert go(go(L.SOLVING, E.FAILED), E.RETRY) == L.SOLVING
+    # Back from another mode, or retrying a refusal: bind again, then solve.
+    assert go(L.PAUSED, E.MODE_BACK) == L.REBINDING
+    assert go(go(L.SOLVING, E.FAILED), E.RETRY) == L.REBINDING
+    assert go(L.REBINDING, E.BOUND) == L.SOLVING
+    assert go(L.REBINDING, E.FAILED) == L.REFUSED
+    for state in (L.HOLDING, L.SOLVING, L.AT_REST):
+        assert go(state, E.REBIND) == L.REBINDING     # groups, Output or a controller
+    with pytest.raises(states.IllegalTransition):
+        go(L.REBINDING, E.ITERATED)       # no solve before the new solver is ready
     assert go(go(L.AT_REST, E.SWITCH), E.SWITCH_ENDED) == L.SOLVING
     with pytest.raises(states.IllegalTransition):
         go(L.PAUSED, E.ITERATED)          # a paused Live never solves

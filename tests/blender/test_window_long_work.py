@@ -89,7 +89,7 @@ def live_domain_switch(ob, ctrl, seen):
     Live has no domain key): the status bar names the rebuild's stages before they run,
     Live goes on with the new graph and the mesh follows the controller. A second switch
     cancelled by Esc keeps the graph and leaves the mesh as it was; Enter keeps."""
-    from edge_deform import lifecycle, op_common, session
+    from edge_deform import modal_tool, op_common, output_checks, session
     s = ob.edge_deform
     s.iterations, s.tolerance = 20, 1e-3
     rest = positions(ob.data)
@@ -97,7 +97,7 @@ def live_domain_switch(ob, ctrl, seen):
     with Told() as told:
         with override():
             assert bpy.ops.edge_deform.live('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
-        tool = op_common.running_tool(ob)
+        tool = modal_tool.running_tool(ob)
         yield from until(lambda: "settled" in (tool.status_text or ""), 120)
         assert "settled" in tool.status_text, tool.status_text
         at_cancel = []
@@ -124,7 +124,7 @@ def live_domain_switch(ob, ctrl, seen):
                 "the status bar showed the factoring before it ran: %s" % seen
             kinds = [k for k, _, _ in seen]
             assert kinds.count('begin') == 1 and kinds.count('end') == 1, kinds
-            assert op_common.running_tool(ob) is tool, "Live goes on after the switch"
+            assert modal_tool.running_tool(ob) is tool, "Live goes on after the switch"
             assert session.get(ob.data.as_pointer()).domain == 'PRIMAL'
             print("live domain switch: %d stages drawn before they ran: ok"
                   % kinds.count('drawn'))
@@ -156,27 +156,27 @@ def live_domain_switch(ob, ctrl, seen):
                 op_common.listeners.remove(capture)
         assert told.has('WARNING', "Domain switch cancelled: the vertex graph is kept"), \
             told.messages
-        assert op_common.running_tool(ob) is tool, "Esc ended the switch, not Live"
+        assert modal_tool.running_tool(ob) is tool, "Esc ended the switch, not Live"
         assert s.domain == 'PRIMAL' and session.get(ob.data.as_pointer()).domain == 'PRIMAL'
         assert at_cancel == [before], "a cancelled switch writes nothing"
         assert [k for k, _, _ in seen if k in ('begin', 'end')] == ['begin', 'end'], seen
         tap('RET')
-        yield from until(lambda: op_common.running_tool() is None, 60)
+        yield from until(lambda: modal_tool.running_tool() is None, 60)
     assert told.has('INFO', "Live Deform kept the shape"), told.messages
-    assert lifecycle.owned_key(ob.data) is not None
+    assert output_checks.owned_key(ob.data) is not None
     print("Esc during a domain switch keeps the vertex graph, mesh unchanged; Enter "
           "keeps: ok")
 
 
 def steps():
-    from edge_deform import op_common
+    from edge_deform import progress
     tap('ESC')   # dismiss the splash screen
     yield
     setup()
     ob, ctrl = big_grid()
     assert len(ob.data.vertices) == N * N
     seen = []
-    op_common.progress_listeners.append(
+    progress.progress_listeners.append(
         lambda kind, text, fraction: seen.append((kind, text, fraction)))
 
     # ------------------------------------------------------------ Esc stops a Bind

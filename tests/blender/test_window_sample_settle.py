@@ -48,8 +48,8 @@ def group_weights(ob, group):
 
 
 def running():
-    from edge_deform import op_common
-    return op_common.running_tool()
+    from edge_deform import modal_tool
+    return modal_tool.running_tool()
 
 
 def status():

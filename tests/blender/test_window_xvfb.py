@@ -114,17 +114,17 @@ def steps():
     ctrl().location.z += 0.1
     yield from until(lambda: abs(key_positions(plane())[handle[0], 2]
                                  - kept[handle[0], 2] - 0.1) < 1e-4)
-    from edge_deform import op_common
+    from edge_deform import modal_tool
     event('MOUSEMOVE', at=center(0, -150))   # away from the plane: a click, no selection
     yield
     tap('LEFTMOUSE', at=center(0, -150))
     for _ in range(5):
         yield
-    assert op_common.running_tool() is not None, "a selection click does not end Live"
+    assert modal_tool.running_tool() is not None, "a selection click does not end Live"
     ctrl().location.z -= 0.1                 # live goes on: the mesh follows
     yield from until(lambda: np.abs(key_positions(plane()) - kept).max() < 1e-4)
     tap('ESC')
-    yield from until(lambda: op_common.running_tool() is None)
+    yield from until(lambda: modal_tool.running_tool() is None)
     assert np.array_equal(key_positions(plane()), kept), "Esc restores bit-exact"
     print("live: a left click selects, Live goes on; Esc: ok")
 
@@ -193,7 +193,7 @@ def steps():
     event('MOUSEMOVE', at=center(0, 70))
     yield from until(lambda: ob.data.shape_keys is not None and np.linalg.norm(
         key_positions(ob)[handle] - rest[handle], axis=1).min() > 0.01)
-    grab = op_common.running_tool()
+    grab = modal_tool.running_tool()
     yield from until(lambda: "stopped after" in (grab.header_text or ""), 60)
     assert "not converged" in grab.header_text and "move the mouse to go on" in \
         grab.header_text, grab.header_text
