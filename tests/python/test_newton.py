@@ -263,15 +263,18 @@ def test_same_positions_with_1_2_and_4_threads(tmp_path, mesh):
         f"sys.path.insert(0, {os.path.dirname(os.path.abspath(__file__))!r})\n"
         "from _meshes import load, lift\n"
         + ("V, F = load('cgal_dino.off')\n" if mesh == "dino" else
-           # a bumpy 100 x 100 grid: a factor large enough for the two-way split back-substitution
-           "n = 100; x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))\n"
+           # a bumpy 140 x 140 grid: a factor large enough for the two-way split back-substitution
+           "n = 140; x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))\n"
            "V = np.column_stack([x.ravel(), y.ravel(), 0.1 * np.sin(6 * x.ravel()) * np.cos(5 * y.ravel())])\n"
            "i = (np.arange(n - 1)[:, None] * n + np.arange(n - 1)[None, :]).ravel()\n"
            "F = np.vstack([np.column_stack([i, i + 1, i + n + 1]), np.column_stack([i, i + n + 1, i + n])])\n")
         + "h, s, t = lift(V)\n"
-        "d = ed.Deformer(V, F, domain='edge'); d.set_constraints(h, s); d.set_stiffness(0.5)\n"
-        + ("r = d.solve(t, acceleration='newton')\n" if mesh == "dino" else
-           "r = d.solve(t, acceleration='newton', max_iterations=40)\n") +
+        # lambda 1: where Newton takes its steps (below it the solve is Anderson's)
+        "d = ed.Deformer(V, F, domain='edge'); d.set_constraints(h, s); d.set_stiffness(1.0)\n"
+        "o = ed.NewtonOptions(lead_in=10)\n"
+        + ("r = d.solve(t, acceleration='newton', newton=o)\n" if mesh == "dino" else
+           "r = d.solve(t, acceleration='newton', newton=o, max_iterations=40)\n") +
+        "assert r.newton_steps > 0, r.newton_steps\n"
         "np.save(sys.argv[1], r.positions); print(d.factor_nonzeros)\n"
     )
     runs = []
