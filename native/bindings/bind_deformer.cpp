@@ -43,7 +43,8 @@ void bind_deformer(py::module_& m) {
              o.lifted = lifted;
              return o;
            }),
-           py::arg("lead_in") = NewtonOptions{}.lead_in, py::arg("projection") = "ladder",
+           py::arg("lead_in") = NewtonOptions{}.lead_in,
+           py::arg("projection") = std::string(NewtonOptions{}.ladder ? "ladder" : "full"),
            py::arg("lifted") = NewtonOptions{}.lifted,
            R"doc(lead_in: Anderson iterations before the first Newton step of a cold or moved-target start.
 projection, lifted: for the diagnostic that chose the method (bench/bench_newton.py): at
