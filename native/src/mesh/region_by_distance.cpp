@@ -19,6 +19,11 @@ namespace {
 
 using Point = std::array<double, 3>;
 
+double dist2(const Point& a, const Point& b) {
+  const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+  return dx * dx + dy * dy + dz * dz;
+}
+
 // A k-d tree over the seed positions, kept as one array in place: each range's middle
 // element is the median on the range's widest axis, its halves on either side. Asking
 // "is any seed within r" costs about log(#seeds) per vertex, where checking every seed
@@ -29,15 +34,12 @@ class SeedTree {
     build(0, static_cast<int>(p_.size()));
   }
 
-  bool any_within(const Point& q, double r2) const { return search(q, r2, 0, static_cast<int>(p_.size())); }
+  // Index (into points(), a permutation of the seeds) of a seed within r of q, or -1.
+  int any_within(const Point& q, double r2) const { return search(q, r2, 0, static_cast<int>(p_.size())); }
+  const std::vector<Point>& points() const { return p_; }
 
  private:
   static constexpr int kLeaf = 8;  // ranges this small are scanned
-
-  static double dist2(const Point& a, const Point& b) {
-    const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-    return dx * dx + dy * dy + dz * dz;
-  }
 
   void build(int lo, int hi) {
     if (hi - lo <= kLeaf) return;
@@ -58,20 +60,22 @@ class SeedTree {
     build(mid + 1, hi);
   }
 
-  bool search(const Point& q, double r2, int lo, int hi) const {
+  int search(const Point& q, double r2, int lo, int hi) const {
     if (hi - lo <= kLeaf) {
       for (int k = lo; k < hi; ++k)
-        if (dist2(q, p_[static_cast<size_t>(k)]) <= r2) return true;
-      return false;
+        if (dist2(q, p_[static_cast<size_t>(k)]) <= r2) return k;
+      return -1;
     }
     const int mid = lo + (hi - lo) / 2;
     const Point& m = p_[static_cast<size_t>(mid)];
-    if (dist2(q, m) <= r2) return true;
-    const double d = q[static_cast<size_t>(axis_[static_cast<size_t>(mid)])] - m[static_cast<size_t>(axis_[static_cast<size_t>(mid)])];
+    if (dist2(q, m) <= r2) return mid;
+    const int a = axis_[static_cast<size_t>(mid)];
+    const double d = q[static_cast<size_t>(a)] - m[static_cast<size_t>(a)];
     const bool left_first = d < 0.0;
-    if (left_first ? search(q, r2, lo, mid) : search(q, r2, mid + 1, hi)) return true;
+    const int near = left_first ? search(q, r2, lo, mid) : search(q, r2, mid + 1, hi);
     // The other side lies at least |d| away along the split axis.
-    return d * d <= r2 && (left_first ? search(q, r2, mid + 1, hi) : search(q, r2, lo, mid));
+    if (near >= 0 || d * d > r2) return near;
+    return left_first ? search(q, r2, mid + 1, hi) : search(q, r2, lo, mid);
   }
 
   std::vector<Point> p_;
@@ -89,8 +93,23 @@ std::vector<int> within_straight_line(const RowMatrixX3d& V, const std::vector<i
   // r^2 overflows to inf for a huge radius: then every vertex is inside, as it should be.
   const double r2 = radius * radius;
   std::vector<char> inside(static_cast<size_t>(n), 0);
+  // Outside the seeds' box grown by r nothing is inside; within it, the seed that held the
+  // previous vertex is tried first (neighbouring ids tend to be neighbours on the mesh).
+  Point lo = tree.points().front(), hi = lo;
+  for (const Point& p : tree.points())
+    for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+  // A little wider than r: only a prefilter, it must never cut what dist2 <= r^2 lets in.
+  const double margin = 1.000001 * radius;
+  for (int c = 0; c < 3; ++c) lo[c] -= margin, hi[c] += margin;
   parallel_for(n, 4096, 16384, [&](int begin, int end) {
-    for (int v = begin; v < end; ++v) inside[static_cast<size_t>(v)] = tree.any_within(point(V, v), r2) ? 1 : 0;
+    int witness = -1;
+    for (int v = begin; v < end; ++v) {
+      const Point q = point(V, v);
+      if (q[0] < lo[0] || q[1] < lo[1] || q[2] < lo[2] || q[0] > hi[0] || q[1] > hi[1] || q[2] > hi[2]) continue;
+      if (witness < 0 || dist2(q, tree.points()[static_cast<size_t>(witness)]) > r2)
+        witness = tree.any_within(q, r2);
+      inside[static_cast<size_t>(v)] = witness >= 0 ? 1 : 0;
+    }
   });
   std::vector<int> region;
   for (int v = 0; v < n; ++v)
