@@ -125,18 +125,29 @@ clamp_negative_weights: clamp negative cotangent weights to 0 (keeps every term 
 semi-definite, as CGAL's ARAP does). Raises ValueError for a malformed or degenerate mesh.)doc")
       .def(
           "set_constraints",
-          [](Deformer& d, const IndicesArg& handles, const OptionalIndicesArg& statics, const OptionalIndicesArg& roi) {
+          [](Deformer& d, const IndicesArg& handles, const OptionalIndicesArg& statics, const OptionalIndicesArg& roi,
+             std::optional<double> roi_radius, bool roi_connected) {
             ConstraintSets sets = constraint_sets(handles.obj, statics.obj, roi.obj);
+            sets.roi_radius = roi_radius;
+            sets.roi_connected = roi_connected;
             py::gil_scoped_release release;
             d.set_constraints(sets);
           },
           py::arg("handles"), py::arg("static") = py::none(), py::arg("roi") = py::none(),
+          py::arg("roi_radius") = py::none(), py::arg("roi_connected") = false,
           R"doc(Which vertices are moved, which stay, and which may change.
 
 handles: (h,) vertex indices that solve() puts exactly on its targets.
 static: (s,) vertex indices kept at rest, or None.
 roi: (r,) the region of interest, or None for the whole mesh; vertices outside stay at rest.
-Raises ValueError when a vertex is both handle and static, IndexError when an index is out of range.)doc")
+roi_radius: instead of roi, the region within this distance (mesh units, rest positions) of
+any handle vertex, as Blender's proportional editing: straight-line distance, or along the
+mesh edges when roi_connected (Blender's "Connected Only": other components stay out).
+A vertex exactly roi_radius away is inside. The same region passed as roi gives the same
+positions, bit for bit.
+Raises ValueError when a vertex is both handle and static, for a roi_radius that is not finite
+and > 0, roi together with roi_radius, roi_connected without roi_radius, or a roi_radius that
+leaves no vertex free; IndexError when an index is out of range.)doc")
       .def(
           "set_stiffness",
           [](Deformer& d, const StiffnessArg& stiffness) {

@@ -94,6 +94,33 @@ def test_deform_off_with_roi(tmp_path):
     np.testing.assert_array_equal(X[handles], targets)
 
 
+@pytest.mark.parametrize("connected", [False, True])
+def test_deform_with_roi_radius_is_the_api_with_it(tmp_path, connected):
+    import edgedeform as ed
+    V, F = load(PLANE)
+    handles = np.argsort(V[:, 0])[-20:]
+    targets = V[handles] + [0.0, 0.2, 0.0]
+    radius = 0.3 * diag(V)
+    c = write_constraints(tmp_path / "c.json", handles, [], targets)
+    out = tmp_path / "out.off"
+    p = run("deform", DATA / PLANE, "--constraints", c, "--out", out, "--roi-radius", str(radius),
+            *(["--roi-connected"] if connected else []), "--iterations", "5", "--tolerance", "0")
+    assert p.returncode == 0, p.stderr
+    d = ed.Deformer(V, F)
+    d.set_constraints(handles, roi_radius=radius, roi_connected=connected)
+    r = d.solve(targets, max_iterations=5, tolerance=0.0)
+    assert json.loads(p.stdout)["free_vertices"] == r.free_vertices < len(V) - len(handles)
+    np.testing.assert_allclose(read_mesh(out)[0], r.positions, rtol=0, atol=1e-12 * diag(V))
+
+
+def test_roi_radius_with_a_roi_is_an_error(tmp_path):
+    V, F = load(PLANE)
+    c = write_constraints(tmp_path / "c.json", [0], [], V[[0]], roi=np.arange(50))
+    p = run("deform", DATA / PLANE, "--constraints", c, "--out", tmp_path / "o.off", "--roi-radius", "1")
+    assert p.returncode == 1 and "roi and roi_radius both given" in p.stderr
+    assert not (tmp_path / "o.off").exists()
+
+
 BAD = {
     "missing_mesh": (lambda t, c: ["deform", t / "nope.obj", "--constraints", c,
                                    "--out", t / "o.obj"], "nope.obj"),

@@ -24,6 +24,10 @@ struct ConstraintSets {
   std::vector<int> handles;
   std::vector<int> statics;
   std::optional<std::vector<int>> roi;  // nullopt: the whole mesh
+  // Instead of roi: the vertices within this distance of a handle in the rest positions
+  // (region_by_distance.h), along the mesh edges when roi_connected.
+  std::optional<double> roi_radius;
+  bool roi_connected = false;
 };
 
 struct ConstrainedSystem {

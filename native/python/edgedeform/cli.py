@@ -101,6 +101,11 @@ def _parser(prog=None):
                         "the same shapes (help(edgedeform.Deformer.solve) says how each does)")
     d.add_argument("--anderson-window", type=int, default=solve["anderson_window"], metavar="M",
                    help="how many past iterates Anderson acceleration combines (default %(default)s)")
+    d.add_argument("--roi-radius", type=float, default=None, metavar="R",
+                   help="instead of the constraints' roi: the vertices within R (mesh units) of a "
+                        "handle, as Blender's proportional editing")
+    d.add_argument("--roi-connected", action="store_true",
+                   help="with --roi-radius: measure along the mesh edges (Blender's Connected Only)")
     d.add_argument("--weld", action="store_true",
                    help="solve with vertices that share a position welded (unwelded seams); "
                         "every copy gets the welded position")
@@ -197,7 +202,8 @@ def deform(args):
     lam = load_stiffness(args, len(V))
 
     d = Deformer(V, F, domain=args.domain, weld=args.weld)
-    d.set_constraints(handles=handles, static=static, roi=roi)
+    d.set_constraints(handles=handles, static=static, roi=roi, roi_radius=args.roi_radius,
+                      roi_connected=args.roi_connected)
     if lam is not None:
         d.set_stiffness(lam)
     t0 = time.perf_counter()

@@ -5,33 +5,20 @@
 
 #include <algorithm>
 #include <deque>
+#include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
 #include "edgedeform/mesh_checks.h"
+#include "edgedeform/region_by_distance.h"
+#include "edgedeform/vertex_adjacency.h"
 
 namespace edgedeform {
 
 namespace {
 
 enum Role : char { kFree = 0, kHandle = 1, kAtRest = 2 };
-
-// Vertex adjacency (CSR) from the mesh edges.
-void vertex_adjacency(const RowMatrixX2i& edges, int n, std::vector<int>& offsets, std::vector<int>& adj) {
-  offsets.assign(static_cast<size_t>(n) + 1, 0);
-  for (Eigen::Index e = 0; e < edges.rows(); ++e) {
-    ++offsets[static_cast<size_t>(edges(e, 0)) + 1];
-    ++offsets[static_cast<size_t>(edges(e, 1)) + 1];
-  }
-  for (int v = 0; v < n; ++v) offsets[static_cast<size_t>(v) + 1] += offsets[static_cast<size_t>(v)];
-  adj.resize(static_cast<size_t>(offsets.back()));
-  std::vector<int> cursor(offsets.begin(), offsets.end() - 1);
-  for (Eigen::Index e = 0; e < edges.rows(); ++e) {
-    const int a = edges(e, 0), b = edges(e, 1);
-    adj[static_cast<size_t>(cursor[static_cast<size_t>(a)]++)] = b;
-    adj[static_cast<size_t>(cursor[static_cast<size_t>(b)]++)] = a;
-  }
-}
 
 // Free components that touch no constrained vertex have nothing to hold them: they stay at
 // rest (their system would be singular). Returns how many vertices were pinned that way.
@@ -72,11 +59,26 @@ int pin_unanchored_components(const RowMatrixX2i& edges, std::vector<Role>& role
   return pinned;
 }
 
-std::vector<Role> vertex_roles(int n, const std::vector<bool>& referenced, const ConstraintSets& sets,
+// The region of interest as a list: sets.roi, or the vertices within sets.roi_radius of a
+// handle. Either way the roles below come from one list, so a radius and the region it
+// picks, given as roi, are the same problem bit for bit.
+std::optional<std::vector<int>> region_of_interest(const RowMatrixX3d& rest, const RowMatrixX2i& mesh_edges,
+                                                   const ConstraintSets& sets) {
+  if (sets.roi_radius && sets.roi)
+    throw std::invalid_argument("roi and roi_radius both given: pass the region as one or the other");
+  if (sets.roi_connected && !sets.roi_radius)
+    throw std::invalid_argument("roi_connected needs roi_radius (the distance along the edges)");
+  if (!sets.roi_radius) return sets.roi;
+  return vertices_within_distance(rest, mesh_edges, sets.handles, *sets.roi_radius, sets.roi_connected);
+}
+
+std::vector<Role> vertex_roles(int n, const std::vector<bool>& referenced, const RowMatrixX3d& rest,
+                               const RowMatrixX2i& mesh_edges, const ConstraintSets& sets,
                                std::vector<std::string>& warnings) {
   check_index_set(sets.handles, n, "handles");
   check_index_set(sets.statics, n, "static");
   if (sets.handles.empty()) throw std::invalid_argument("handles is empty: at least one handle vertex is needed");
+  const std::optional<std::vector<int>> roi = region_of_interest(rest, mesh_edges, sets);
   std::vector<Role> role(static_cast<size_t>(n), kFree);
   for (int v : sets.handles) role[static_cast<size_t>(v)] = kHandle;
   for (int v : sets.statics) {
@@ -84,10 +86,10 @@ std::vector<Role> vertex_roles(int n, const std::vector<bool>& referenced, const
       throw std::invalid_argument("vertex " + std::to_string(v) + " is in both handles and static");
     role[static_cast<size_t>(v)] = kAtRest;
   }
-  if (sets.roi) {
-    check_index_set(*sets.roi, n, "roi");
+  if (roi) {
+    check_index_set(*roi, n, "roi");
     std::vector<bool> in_roi(static_cast<size_t>(n), false);
-    for (int v : *sets.roi) in_roi[static_cast<size_t>(v)] = true;
+    for (int v : *roi) in_roi[static_cast<size_t>(v)] = true;
     for (int v = 0; v < n; ++v)
       if (!in_roi[static_cast<size_t>(v)] && role[static_cast<size_t>(v)] == kFree) role[static_cast<size_t>(v)] = kAtRest;
   }
@@ -100,6 +102,15 @@ std::vector<Role> vertex_roles(int n, const std::vector<bool>& referenced, const
   if (unreferenced > 0)
     warnings.push_back(std::to_string(unreferenced) + " vertices are not used by any face and stay at rest");
   return role;
+}
+
+// An explicit roi may leave nothing free (the solve then only places the handles); a radius
+// that does is almost surely too small for the mesh, so it is an error that says so.
+std::string no_free_vertex_message(const ConstraintSets& sets) {
+  std::ostringstream msg;
+  msg << "no free vertex within roi_radius " << *sets.roi_radius << (sets.roi_connected ? " along the edges" : "")
+      << " of the handles: increase the radius";
+  return msg.str();
 }
 
 void require_jacobians(const ConstrainedSystem& sys) {
@@ -122,9 +133,11 @@ ConstrainedSystem constrained_layout(const NodeGraph& g, const RowMatrixX3d& res
   const int n = g.n_vertices;
   sys.n_vertices = n;
   sys.similarity_floor = similarity_floor(g.domain);
-  std::vector<Role> role = vertex_roles(n, referenced, sets, sys.warnings);
+  std::vector<Role> role = vertex_roles(n, referenced, rest, mesh_edges, sets, sys.warnings);
   int n_components = 0;
   const int pinned = pin_unanchored_components(mesh_edges, role, n_components);
+  if (sets.roi_radius && std::find(role.begin(), role.end(), kFree) == role.end())
+    throw std::invalid_argument(no_free_vertex_message(sets));
   if (pinned > 0)
     sys.warnings.push_back(std::to_string(pinned) + " free vertices in " + std::to_string(n_components) +
                            " component(s) touch no handle or static vertex and stay at rest");

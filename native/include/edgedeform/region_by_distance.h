@@ -1,0 +1,20 @@
+// A region of interest picked by distance from seed vertices, as Blender's proportional
+// editing picks the vertices it moves: straight-line distance, or ("Connected Only") the
+// shortest path along the mesh edges, which reaches only the seeds' own components.
+#pragma once
+
+#include <vector>
+
+#include "edgedeform/types.h"
+
+namespace edgedeform {
+
+// Vertices v (ascending ids) with distance(v, seeds) <= radius, measured in V (#V x 3):
+// Euclidean |V(v) - V(s)| (compared squared), or with `along_edges` the shortest path over
+// `edges` (#E x 2), each edge as long as its straight segment. The seeds are inside (0).
+// Throws std::invalid_argument unless radius is finite and > 0, std::out_of_range for a seed
+// that is not a vertex.
+std::vector<int> vertices_within_distance(const RowMatrixX3d& V, const RowMatrixX2i& edges,
+                                          const std::vector<int>& seeds, double radius, bool along_edges);
+
+}  // namespace edgedeform

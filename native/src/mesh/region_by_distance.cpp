@@ -1,0 +1,171 @@
+#include "edgedeform/region_by_distance.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+#include "edgedeform/parallel.h"
+#include "edgedeform/vertex_adjacency.h"
+
+namespace edgedeform {
+
+namespace {
+
+using Point = std::array<double, 3>;
+
+double dist2(const Point& a, const Point& b) {
+  const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+  return dx * dx + dy * dy + dz * dz;
+}
+
+// A k-d tree over the seed positions, kept as one array in place: each range's middle
+// element is the median on the range's widest axis, its halves on either side. Asking
+// "is any seed within r" costs about log(#seeds) per vertex, where checking every seed
+// would make a large selection on a large mesh quadratic.
+class SeedTree {
+ public:
+  explicit SeedTree(std::vector<Point> points) : p_(std::move(points)), axis_(p_.size(), 0) {
+    build(0, static_cast<int>(p_.size()));
+  }
+
+  // Index (into points(), a permutation of the seeds) of a seed within r of q, or -1.
+  int any_within(const Point& q, double r2) const { return search(q, r2, 0, static_cast<int>(p_.size())); }
+  const std::vector<Point>& points() const { return p_; }
+
+ private:
+  static constexpr int kLeaf = 8;  // ranges this small are scanned
+
+  void build(int lo, int hi) {
+    if (hi - lo <= kLeaf) return;
+    Point mn = p_[static_cast<size_t>(lo)], mx = mn;
+    for (int k = lo; k < hi; ++k)
+      for (int c = 0; c < 3; ++c) {
+        mn[c] = std::min(mn[c], p_[static_cast<size_t>(k)][c]);
+        mx[c] = std::max(mx[c], p_[static_cast<size_t>(k)][c]);
+      }
+    int a = 0;
+    for (int c = 1; c < 3; ++c)
+      if (mx[c] - mn[c] > mx[a] - mn[a]) a = c;
+    const int mid = lo + (hi - lo) / 2;
+    std::nth_element(p_.begin() + lo, p_.begin() + mid, p_.begin() + hi,
+                     [a](const Point& x, const Point& y) { return x[a] < y[a]; });
+    axis_[static_cast<size_t>(mid)] = static_cast<char>(a);
+    build(lo, mid);
+    build(mid + 1, hi);
+  }
+
+  int search(const Point& q, double r2, int lo, int hi) const {
+    if (hi - lo <= kLeaf) {
+      for (int k = lo; k < hi; ++k)
+        if (dist2(q, p_[static_cast<size_t>(k)]) <= r2) return k;
+      return -1;
+    }
+    const int mid = lo + (hi - lo) / 2;
+    const Point& m = p_[static_cast<size_t>(mid)];
+    if (dist2(q, m) <= r2) return mid;
+    const int a = axis_[static_cast<size_t>(mid)];
+    const double d = q[static_cast<size_t>(a)] - m[static_cast<size_t>(a)];
+    const bool left_first = d < 0.0;
+    const int near = left_first ? search(q, r2, lo, mid) : search(q, r2, mid + 1, hi);
+    // The other side lies at least |d| away along the split axis.
+    if (near >= 0 || d * d > r2) return near;
+    return left_first ? search(q, r2, mid + 1, hi) : search(q, r2, lo, mid);
+  }
+
+  std::vector<Point> p_;
+  std::vector<char> axis_;  // split axis, at each range's middle index
+};
+
+Point point(const RowMatrixX3d& V, int v) { return {V(v, 0), V(v, 1), V(v, 2)}; }
+
+std::vector<int> within_straight_line(const RowMatrixX3d& V, const std::vector<int>& seeds, double radius) {
+  const int n = static_cast<int>(V.rows());
+  std::vector<Point> points;
+  points.reserve(seeds.size());
+  for (int s : seeds) points.push_back(point(V, s));
+  const SeedTree tree(std::move(points));
+  // r^2 overflows to inf for a huge radius: then every vertex is inside, as it should be.
+  const double r2 = radius * radius;
+  std::vector<char> inside(static_cast<size_t>(n), 0);
+  // Outside the seeds' box grown by r nothing is inside; within it, the seed that held the
+  // previous vertex is tried first (neighbouring ids tend to be neighbours on the mesh).
+  Point lo = tree.points().front(), hi = lo;
+  for (const Point& p : tree.points())
+    for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+  // A little wider than r: only a prefilter, it must never cut what dist2 <= r^2 lets in.
+  const double margin = 1.000001 * radius;
+  for (int c = 0; c < 3; ++c) lo[c] -= margin, hi[c] += margin;
+  parallel_for(n, 4096, 16384, [&](int begin, int end) {
+    int witness = -1;
+    for (int v = begin; v < end; ++v) {
+      const Point q = point(V, v);
+      if (q[0] < lo[0] || q[1] < lo[1] || q[2] < lo[2] || q[0] > hi[0] || q[1] > hi[1] || q[2] > hi[2]) continue;
+      if (witness < 0 || dist2(q, tree.points()[static_cast<size_t>(witness)]) > r2)
+        witness = tree.any_within(q, r2);
+      inside[static_cast<size_t>(v)] = witness >= 0 ? 1 : 0;
+    }
+  });
+  std::vector<int> region;
+  for (int v = 0; v < n; ++v)
+    if (inside[static_cast<size_t>(v)]) region.push_back(v);
+  return region;
+}
+
+// Multi-source Dijkstra that never queues a vertex beyond the radius: its cost grows with
+// the region, apart from the adjacency over the whole mesh.
+std::vector<int> within_along_edges(const RowMatrixX3d& V, const RowMatrixX2i& edges, const std::vector<int>& seeds,
+                                    double radius) {
+  const int n = static_cast<int>(V.rows());
+  std::vector<int> offsets, adj;
+  vertex_adjacency(edges, n, offsets, adj);
+  std::vector<double> dist(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  for (int s : seeds)
+    if (dist[static_cast<size_t>(s)] > 0.0) {
+      dist[static_cast<size_t>(s)] = 0.0;
+      queue.emplace(0.0, s);
+    }
+  std::vector<int> region;
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > dist[static_cast<size_t>(v)]) continue;  // a stale entry
+    region.push_back(v);
+    for (int k = offsets[static_cast<size_t>(v)]; k < offsets[static_cast<size_t>(v) + 1]; ++k) {
+      const int u = adj[static_cast<size_t>(k)];
+      const double du = d + (V.row(u) - V.row(v)).norm();
+      if (du <= radius && du < dist[static_cast<size_t>(u)]) {
+        dist[static_cast<size_t>(u)] = du;
+        queue.emplace(du, u);
+      }
+    }
+  }
+  std::sort(region.begin(), region.end());
+  return region;
+}
+
+}  // namespace
+
+std::vector<int> vertices_within_distance(const RowMatrixX3d& V, const RowMatrixX2i& edges,
+                                          const std::vector<int>& seeds, double radius, bool along_edges) {
+  if (!(std::isfinite(radius) && radius > 0.0)) {
+    std::ostringstream msg;
+    msg << "roi_radius must be a finite distance > 0, got " << radius;
+    throw std::invalid_argument(msg.str());
+  }
+  const int n = static_cast<int>(V.rows());
+  for (int s : seeds)
+    if (s < 0 || s >= n)
+      throw std::out_of_range("seed vertex " + std::to_string(s) + " is out of range [0, " + std::to_string(n) + ")");
+  if (seeds.empty()) return {};
+  return along_edges ? within_along_edges(V, edges, seeds, radius) : within_straight_line(V, seeds, radius);
+}
+
+}  // namespace edgedeform

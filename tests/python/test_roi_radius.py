@@ -1,0 +1,127 @@
+"""set_constraints(roi_radius=..., roi_connected=...): the region of interest picked by
+distance from the handles, as Blender's proportional editing picks it; checked against
+distances computed here (NumPy, SciPy's Dijkstra) and against the same region given as roi."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from scipy.sparse.csgraph import dijkstra
+
+import edgedeform as ed
+from _meshes import DINO, PLANE, diag, load, unique_edges, up_axis
+from _run import deformer, max_dev
+
+
+def straight_line_region(V, handles, radius):
+    d2 = ((V[:, None, :] - V[None, handles, :]) ** 2).sum(axis=2).min(axis=1)
+    return np.flatnonzero(d2 <= radius * radius)
+
+
+def along_edges_region(V, F, handles, radius):
+    E = unique_edges(F)
+    length = np.linalg.norm(V[E[:, 0]] - V[E[:, 1]], axis=1)
+    G = sp.coo_matrix((length, (E[:, 0], E[:, 1])), shape=(len(V), len(V))).tocsr()
+    dist = dijkstra(G, directed=False, indices=handles, min_only=True)
+    return np.flatnonzero(dist <= radius)
+
+
+def expected_free(region, handles, static):
+    return np.setdiff1d(region, np.concatenate([handles, static]))
+
+
+def dino_case():
+    V, F = load(DINO)
+    h = V[:, up_axis(V)]
+    handles = np.flatnonzero(h >= np.quantile(h, 0.95))
+    static = np.flatnonzero((h >= np.quantile(h, 0.85)) & (h < np.quantile(h, 0.87)))
+    targets = V[handles] + 0.1 * diag(V) * np.eye(3)[up_axis(V)]
+    return V, F, handles, static, targets
+
+
+@pytest.mark.parametrize("connected", [False, True])
+def test_radius_equals_the_same_roi_bit_for_bit(connected):
+    V, F, handles, static, targets = dino_case()
+    radius = 0.25 * diag(V)
+    region = along_edges_region(V, F, handles, radius) if connected else straight_line_region(V, handles, radius)
+    by_radius = ed.Deformer(V, F)
+    by_radius.set_constraints(handles, static, roi_radius=radius, roi_connected=connected)
+    np.testing.assert_array_equal(by_radius.free_vertices, expected_free(region, handles, static))
+    by_roi = ed.Deformer(V, F)
+    by_roi.set_constraints(handles, static, roi=region)
+    a = by_radius.solve(targets, max_iterations=10, tolerance=0.0)
+    b = by_roi.solve(targets, max_iterations=10, tolerance=0.0)
+    assert np.array_equal(a.positions, b.positions)
+    X = np.asarray(a.positions)
+    outside = np.setdiff1d(np.arange(len(V)), region)
+    assert outside.size > 0 and np.array_equal(X[outside], V[outside])
+    assert np.array_equal(X[static], V[static])       # statics inside the radius stay static
+    moved = by_radius.free_vertices
+    assert np.abs(X[moved] - V[moved]).max() > 0.01 * diag(V)
+
+
+def test_connected_leaves_out_a_second_sheet_the_straight_line_reaches():
+    V0, F0 = load(PLANE)
+    gap = 0.02 * diag(V0)
+    normal = int(np.argmin(np.ptp(V0, axis=0)))              # a flat sheet: its thin axis
+    V = np.vstack([V0, V0 + gap * np.eye(3)[normal]])
+    F = np.vstack([F0, F0 + len(V0)])
+    centre = int(np.argmin(np.linalg.norm(V0 - V0.mean(axis=0), axis=1)))
+    handles = np.array([centre])
+    radius = 0.1 * diag(V0)
+    d = ed.Deformer(V, F)
+    d.set_constraints(handles, roi_radius=radius)
+    straight = np.asarray(d.free_vertices)
+    d.set_constraints(handles, roi_radius=radius, roi_connected=True)
+    along = np.asarray(d.free_vertices)
+    assert (straight >= len(V0)).any()                 # the other sheet is 2 % of the diagonal away
+    assert not (along >= len(V0)).any()
+    np.testing.assert_array_equal(straight, expected_free(straight_line_region(V, handles, radius), handles, []))
+    np.testing.assert_array_equal(along, expected_free(along_edges_region(V, F, handles, radius), handles, []))
+
+
+def strip(k):
+    """A ladder of unit squares: vertex 2 i at (i, 0, 0), 2 i + 1 at (i, 1, 0)."""
+    V = np.array([[i, y, 0.0] for i in range(k + 1) for y in (0, 1)])
+    F = np.array([f for i in range(k) for f in ((2 * i, 2 * i + 2, 2 * i + 3), (2 * i, 2 * i + 3, 2 * i + 1))])
+    return V, F
+
+
+@pytest.mark.parametrize("connected", [False, True])
+def test_a_vertex_exactly_at_the_radius_is_inside(connected):
+    V, F = strip(6)
+    d = ed.Deformer(V, F)
+    d.set_constraints([0], roi_radius=3.0, roi_connected=connected)
+    assert 6 in d.free_vertices and 8 not in d.free_vertices     # (3, 0) is 3 away; (4, 0) is 4
+    d.set_constraints([0], roi_radius=np.nextafter(3.0, 0.0), roi_connected=connected)
+    assert 6 not in d.free_vertices
+
+
+def test_weld_passes_the_radius_through():
+    V, F, handles, static, targets = dino_case()
+    a = ed.Deformer(V, F, weld=True)
+    a.set_constraints(handles, static, roi_radius=0.2 * diag(V))
+    b = deformer(V, F, "edge", 0.5, handles, static, roi=straight_line_region(V, handles, 0.2 * diag(V)))
+    assert max_dev(a.solve(targets, max_iterations=5).positions, b.solve(targets, max_iterations=5).positions) == 0.0
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    (dict(roi_radius=0.0), r"roi_radius must be a finite distance > 0, got 0"),
+    (dict(roi_radius=-1.0), r"roi_radius must be a finite distance > 0, got -1"),
+    (dict(roi_radius=float("nan")), r"roi_radius must be a finite distance > 0, got nan"),
+    (dict(roi_radius=float("inf")), r"roi_radius must be a finite distance > 0, got inf"),
+    (dict(roi_radius=1.0, roi=np.arange(10)), r"roi and roi_radius both given"),
+    (dict(roi_connected=True), r"roi_connected needs roi_radius"),
+    (dict(roi_radius=1e-9), r"no free vertex within roi_radius 1e-09 of the handles: increase the radius"),
+    (dict(roi_radius=1e-9, roi_connected=True),
+     r"no free vertex within roi_radius 1e-09 along the edges of the handles: increase the radius"),
+], ids=["zero", "negative", "nan", "inf", "with_roi", "connected_alone", "too_small", "too_small_connected"])
+def test_bad_radius_rejected_and_deformer_unchanged(kwargs, words):
+    V, F, handles, static, targets = dino_case()
+    d = deformer(V, F, "edge", 0.5, handles, static)
+    before = np.asarray(d.solve(targets, max_iterations=5, warm_start=False).positions).copy()
+    free = list(d.free_vertices)
+    with pytest.raises(ValueError, match=words):
+        d.set_constraints(handles, static, **kwargs)
+    assert d.free_vertices == free
+    after = d.solve(targets, max_iterations=5, warm_start=False)
+    assert np.array_equal(after.positions, before)
