@@ -304,7 +304,9 @@ def peak_memory(size, domain, lam, method="anderson"):
     if method == "newton":
         row["newton_factorizations"] = int(factorizations)
         if row["newton_factorizations"] < 1:
-            raise SystemExit(f"{size} {domain} λ {lam:g}: Newton factored nothing in 10 iterations")
+            raise SystemExit(f"{size} {domain} λ {lam:g}: Newton factored nothing in 10 iterations"
+                             + (" (Newton steps are taken only at λ 1: measure its peak with --lambdas 1)"
+                                if lam < 1 else ""))
     return row
 
 

@@ -95,8 +95,8 @@ def run_cell(ed, cell, methods, tolerances, max_iterations, log):
     dg = diagonal(V)
     rows = []
     for method in methods:
-        if lam < 1.0 and method in ("d1-ladder", "d1-lifted"):
-            continue  # the same as d1-full below lambda 1
+        if lam < 1.0 and method.startswith("d1"):
+            continue  # Newton steps only at lambda 1: below it these are Anderson (record 0029)
         for tol in tolerances:
             r, wall = solve(ed, V, F, handles, static, domain, lam, targets, method, tol, max_iterations)
             row = {"mesh": name, "edit": edit_name, "domain": domain, "lambda": lam, "method": method,

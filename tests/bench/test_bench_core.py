@@ -21,9 +21,10 @@ def test_one_row_with_every_timing(tmp_path):
 
 
 def test_peak_memory_of_anderson_and_newton(tmp_path):
-    """--peak: one fresh process per method; Newton's peak holds a factor of its matrix."""
+    """--peak: one fresh process per method; Newton's peak holds a factor of its matrix (at
+    lambda 1: below it Newton takes no step)."""
     out = tmp_path / "core.json"
-    run("bench_core.py", "--peak", "--sizes", "1k", "--domains", "edge", "--lambdas", "0.5",
+    run("bench_core.py", "--peak", "--sizes", "1k", "--domains", "edge", "--lambdas", "1",
         "--peak-methods", "anderson,newton", "--json", out)
     anderson, newton = load(out)["peak_memory"]
     assert (anderson["method"], newton["method"]) == ("anderson", "newton")
