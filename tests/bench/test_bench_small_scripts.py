@@ -1,5 +1,5 @@
 """The smaller bench scripts on small inputs: the sample scenes, the pytest counts, the
-same-positions check, the live-settle replay and the instruction counts."""
+same-positions check, the live-settle replay, the instruction counts and the region seam."""
 
 import shutil
 import types
@@ -104,3 +104,27 @@ def test_callgrind_handle_change_on_spot(tmp_path):
     assert 0 < row["add_vs_fresh"] < 1 and 0 < row["remove_vs_fresh"] < 1
     import callgrind_handle_change
     assert "| spot_low_resolution.obj |" in callgrind_handle_change.markdown(load(out))
+
+
+def test_roi_seam_rows_and_the_bend_measure(tmp_path):
+    """bench_roi_seam.py on the small Spot: a row per radius; a region that holds every free
+    vertex matches the whole mesh; the dihedral measure is 0 at rest and sees a fold."""
+    out = tmp_path / "seam.json"
+    run("bench_roi_seam.py", "--cells", "spot:1", "--radii", "0.35,10", "--out", out)
+    small, everything = load(out)["rows"]
+    assert small["free_region"] < small["free_whole"] and small["border_edges"] > 0
+    assert small["converged_region"] and small["converged_whole"]
+    assert finite(small["border_bend_region_deg"], small["distance_to_whole"]) and small["distance_to_whole"] > 1e-3
+    assert everything["free_region"] == everything["free_whole"] and everything["border_edges"] == 0
+    assert everything["distance_to_whole"] < 1e-12
+    import bench_roi_seam
+    assert "| spot lift λ 1 | 0.35 |" in bench_roi_seam.markdown(load(out))
+    # two triangles folded by 90 degrees about their shared edge
+    F = np.array([[0, 1, 2], [1, 0, 3]])
+    flat = np.array([[0, 0, 0], [1, 0, 0], [0.5, 1, 0], [0.5, -1, 0]], float)
+    folded = flat.copy()
+    folded[3] = [0.5, 0, 1]
+    edges, faces = bench_roi_seam.interior_edges(F)
+    assert edges.tolist() == [[0, 1]]
+    assert bench_roi_seam.dihedral_degrees(flat, F, faces)[0] == pytest.approx(0.0, abs=1e-9)
+    assert bench_roi_seam.dihedral_degrees(folded, F, faces)[0] == pytest.approx(90.0)
