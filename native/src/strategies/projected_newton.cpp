@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <functional>
 #include <limits>
 #include <string>
@@ -34,11 +32,6 @@ double largest_row(const Eigen::MatrixXd& a) {
   double m = 0.0;
   for (Eigen::Index r = 0; r < a.rows(); ++r) m = std::max(m, a.row(r).squaredNorm());
   return std::sqrt(m);
-}
-
-bool tracing() {
-  static const bool on = std::getenv("EDGEDEFORM_TRACE") != nullptr;
-  return on;
 }
 
 // The direction: K factored with as little projected as factors, from the memory's level
@@ -146,10 +139,6 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
         }
       }
     }
-    if (tracing())
-      std::fprintf(stderr, "newton %d (projection %.2f): r %.2e |b| %.2e step %.2e alpha %.3g %s E %.10g\n",
-                   result.newton_steps, kProjectionLevels[memory.level], r, b.norm(), step_size,
-                   alpha, !factored ? "not factored" : accepted ? "kept" : "failed", point.energy);
     if (!accepted) {
       ++result.line_search_failures;
       memory.plain_steps_left = kFallbackSteps;

@@ -1,8 +1,6 @@
 #include "edgedeform/newton_factor.h"
 
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 
 #include "edgedeform/errors.h"
 
@@ -17,17 +15,14 @@ double ms_since(Clock::time_point start) {
 
 bool NewtonFactor::factor(const FixedPointLinearization& lin) {
   auto t0 = Clock::now();
-  const bool fresh = !matrix_;
   if (!matrix_) {
     matrix_ = std::make_unique<NewtonMatrix>(lin.system(), lin.assembled());
     // Order the vertices (nf x nf, a ninth of the entries) and keep each vertex's three
     // coordinates together: the factor's supernodes then hold whole 3 x 3 blocks.
     order_ = NewtonMatrix::coordinate_order(SparseCholesky::fill_reducing_order(matrix_->block_pattern()));
   }
-  const double pattern_ms = ms_since(t0);
   matrix_->assemble(lin);
   assemble_ms_ = ms_since(t0);
-  if (std::getenv("EDGEDEFORM_TRACE")) std::fprintf(stderr, "newton factor: pattern %.0f ms (%s), assembly %.0f ms\n", pattern_ms, fresh ? "new" : "kept", assemble_ms_ - pattern_ms);
   t0 = Clock::now();
   bool ok = true;
   try {
@@ -36,7 +31,6 @@ bool NewtonFactor::factor(const FixedPointLinearization& lin) {
     ok = false;
   }
   factor_ms_ = ms_since(t0);
-  if (std::getenv("EDGEDEFORM_TRACE")) std::fprintf(stderr, "newton factor: %s %.0f ms\n", ok ? "factored" : "failed", factor_ms_);
   return ok;
 }
 
