@@ -21,7 +21,7 @@ namespace edgedeform::bindings {
 
 namespace {
 
-// A field of SolveOptions (or of an options struct inside it: OPTION(newton.damping)).
+// A field of SolveOptions (or of an options struct inside it: OPTION(newton.lead_in)).
 #define OPTION(path) [](auto& o) -> auto& { return o.path; }
 
 // solve()'s keyword arguments after `targets`, in the order of its positional parameters.

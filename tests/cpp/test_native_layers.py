@@ -45,23 +45,26 @@ def test_every_header_has_a_part():
     assert not missing, f"headers of no part (add a .cpp to a part folder or list them in HEADER_ONLY): {missing}"
 
 
-def test_no_file_includes_a_part_above_its_own():
-    parts = part_of_each_name()
+def upward_includes(files, parts):
+    """(path, part) pairs -> the includes of a part above the file's own, as messages."""
     rank = {part: k for k, part in enumerate(PARTS)}
-    files = [(h, parts[h.stem]) for h in INCLUDE.glob("*.h")] + [(c, c.parent.name) for c in SRC.glob("*/*.cpp")]
-    upward = [
-        f"{path.relative_to(ROOT)} ({part}) includes {name}.h ({parts[name]})"
+    return [
+        f"{path.name} ({part}) includes {name}.h ({parts[name]})"
         for path, part in files
         for name in includes(path)
         if rank[parts[name]] > rank[part]
     ]
+
+
+def test_no_file_includes_a_part_above_its_own():
+    parts = part_of_each_name()
+    files = [(h, parts[h.stem]) for h in INCLUDE.glob("*.h")] + [(c, c.parent.name) for c in SRC.glob("*/*.cpp")]
+    upward = upward_includes(files, parts)
     assert not upward, "includes that point up:\n" + "\n".join(upward)
 
 
 def test_the_check_sees_an_upward_include(tmp_path):
     # The rule itself: a base file that included the deformer would be reported.
-    parts = part_of_each_name()
-    rank = {part: k for k, part in enumerate(PARTS)}
     fake = tmp_path / "types.h"
-    fake.write_text('#include "edgedeform/deformer.h"\n')
-    assert [n for n in includes(fake) if rank[parts[n]] > rank["base"]] == ["deformer"]
+    fake.write_text('#include "edgedeform/deformer.h"\n#include "edgedeform/errors.h"\n')
+    assert upward_includes([(fake, "base")], part_of_each_name()) == ["types.h (base) includes deformer.h (deformer)"]

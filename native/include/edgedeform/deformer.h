@@ -9,11 +9,8 @@
 // Newton (projected_newton.h, after an Anderson lead-in), on one FixedPointProblem.
 #pragma once
 
-#include <functional>
 #include <memory>
 #include <mutex>
-#include <optional>
-#include <string>
 #include <vector>
 
 #include "edgedeform/constrained_system.h"

@@ -26,9 +26,6 @@ class NewtonFactor {
   // delta := K^-1 b, b and delta (#free x 3) as the strategies hold them.
   void solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& delta);
 
-  int analyses() const { return cholesky_.analyses(); }
-  int factorizations() const { return cholesky_.factorizations(); }
-  double factor_nonzeros() const { return cholesky_.factor_nonzeros(); }
   // Milliseconds of the last factor(): assembling K (pattern included when new), factoring.
   double assemble_ms() const { return assemble_ms_; }
   double factor_ms() const { return factor_ms_; }

@@ -1,7 +1,6 @@
 // Deformer's strategies (plain/Anderson, and Newton after its Anderson lead-in) run on its
 // StepProblem, and the inspection calls of the one-step map and its derivative.
 #include <algorithm>
-#include <cstdlib>
 #include <stdexcept>
 #include <string>
 

@@ -71,10 +71,6 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
     result.residuals.push_back(r);
     return r;
   };
-  auto give_up = [&] {
-    point.energy = problem.local_fit(y, fit);  // the trials moved the linearization point
-    return NewtonEnd::GaveUp;
-  };
 
   while (result.iterations < s.max_iterations) {
     stop_if_asked();
@@ -143,8 +139,8 @@ NewtonEnd projected_newton_solve(FixedPointProblem& problem, const NewtonSetting
       ++result.line_search_failures;
       memory.plain_steps_left = kFallbackSteps;
       memory.candidate = false;
-      if (++memory.failures >= kFailuresBeforeGivingUp) return give_up();
       point.energy = problem.local_fit(y, fit);  // the trials moved the linearization point
+      if (++memory.failures >= kFailuresBeforeGivingUp) return NewtonEnd::GaveUp;
       continue;
     }
     memory.failures = 0;

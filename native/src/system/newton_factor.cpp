@@ -36,15 +36,14 @@ bool NewtonFactor::factor(const FixedPointLinearization& lin) {
 
 void NewtonFactor::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& delta) {
   const Eigen::Index nf = b.rows();
-  Eigen::VectorXd rhs(3 * nf), x;
+  Eigen::VectorXd rhs(3 * nf);  // row 3 v + c: coordinate c of free vertex v (newton_matrix.h)
   for (Eigen::Index v = 0; v < nf; ++v)
     for (int c = 0; c < 3; ++c) rhs(3 * v + c) = b(v, c);
-  Eigen::MatrixXd X;
-  cholesky_.solve(rhs, X);
-  x = X.col(0);
+  Eigen::MatrixXd x;
+  cholesky_.solve(rhs, x);
   delta.resize(nf, 3);
   for (Eigen::Index v = 0; v < nf; ++v)
-    for (int c = 0; c < 3; ++c) delta(v, c) = x(3 * v + c);
+    for (int c = 0; c < 3; ++c) delta(v, c) = x(3 * v + c, 0);
 }
 
 }  // namespace edgedeform
