@@ -32,7 +32,7 @@ struct Case {
         if (v % 7 >= 2) roi.push_back(v);  // the two left columns stay out
       sets.roi = roi;
     }
-    sys = build_constrained_system(g, mesh.V, topo.edges, referenced_vertices(mesh.F, static_cast<int>(mesh.V.rows())), sets);
+    sys = build_constrained_system(g, mesh.V, vertex_adjacency(topo.edges, static_cast<int>(mesh.V.rows())), referenced_vertices(mesh.F, static_cast<int>(mesh.V.rows())), sets);
   }
 
   // Global vertex of a local column.

@@ -233,7 +233,7 @@ TEST_P(IncrementalFactor, RigidRemainderOfAPaintedMeshAssemblesItsOwnSystem) {
   d.set_constraints({e.high, e.low, std::nullopt});
   five_cold_iterations(d, e.targets(e.high));
   const ConstraintSets pinned{e.high, joined(e.low, band), std::nullopt};
-  const ConstrainedSystem layout = constrained_layout(d.graph(), d.rest(), d.topology().edges,
+  const ConstrainedSystem layout = constrained_layout(d.graph(), d.rest(), d.adjacency(),
                                                       referenced_vertices(d.faces(), d.n_vertices()), pinned);
   for (int i : layout.term_nodes) ASSERT_EQ(d.node_lambda()(i), 1.0) << "the band does not cover lambda < 1";
   d.set_constraints(pinned);

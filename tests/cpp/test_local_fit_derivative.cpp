@@ -38,7 +38,7 @@ struct GridStencil {
     graph = build_node_graph(mesh.V, mesh.F, topology, domain, true);
     std::vector<int> all(graph.n_nodes);
     for (int i = 0; i < graph.n_nodes; ++i) all[i] = i;
-    stencil = build_stencil(graph, graph.node_positions(mesh.V), all, all);
+    stencil = build_stencil(graph, mesh.V, all, all);
   }
 };
 

@@ -17,7 +17,7 @@ TEST(FitLocal, RecoversRotationAndScaleOfASimilarity) {
     const auto g = build_node_graph(m.V, m.F, topo, d, true);
     std::vector<int> all(g.n_nodes);
     for (int i = 0; i < g.n_nodes; ++i) all[i] = i;
-    const NodeStencil st = build_stencil(g, g.node_positions(m.V), all, all);
+    const NodeStencil st = build_stencil(g, m.V, all, all);
     const Eigen::Matrix3d Q = Eigen::AngleAxisd(0.8, Eigen::Vector3d(0, 1, 1).normalized()).toRotationMatrix();
     const double scale = 1.7;
     const RowMatrixX3d X = (scale * m.V * Q.transpose()).rowwise() + Eigen::RowVector3d(1, -2, 3);
@@ -44,7 +44,7 @@ TEST(FitLocal, ScaleIsClampedToAPlausibleRange) {
   const auto g = build_node_graph(m.V, m.F, topo, Domain::Edge, true);
   std::vector<int> all(g.n_nodes);
   for (int i = 0; i < g.n_nodes; ++i) all[i] = i;
-  const NodeStencil st = build_stencil(g, g.node_positions(m.V), all, all);
+  const NodeStencil st = build_stencil(g, m.V, all, all);
   LocalFit fit;
   fit_local(st, g.node_positions(RowMatrixX3d(6.0 * m.V)), Eigen::VectorXd::Zero(g.n_nodes), fit);
   EXPECT_DOUBLE_EQ(fit.scale.maxCoeff(), kMaxScale);
@@ -62,8 +62,8 @@ TEST(FitLocal, ATermsFitDoesNotDependOnItsSimdPartner) {
     std::vector<int> all(g.n_nodes), position(g.n_nodes);
     for (int i = 0; i < g.n_nodes; ++i) all[i] = position[i] = i;
     const std::vector<int> shifted(all.begin() + 1, all.end());
-    const NodeStencil st = build_stencil(g, g.node_positions(m.V), all, position);
-    const NodeStencil st_shifted = build_stencil(g, g.node_positions(m.V), shifted, position);
+    const NodeStencil st = build_stencil(g, m.V, all, position);
+    const NodeStencil st_shifted = build_stencil(g, m.V, shifted, position);
     RowMatrixX3d X = m.V;
     for (Eigen::Index v = 0; v < X.rows(); ++v)  // a bend: rotations vary from node to node
       X.row(v) = Eigen::AngleAxisd(0.5 * m.V(v, 1), Eigen::Vector3d::UnitX()).toRotationMatrix() * m.V.row(v).transpose();

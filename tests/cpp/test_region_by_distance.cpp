@@ -77,15 +77,16 @@ TEST(RegionByDistance, AVertexExactlyAtTheRadiusIsInside) {
   test::TestMesh m;
   add_strip(m, 4, 0.0);  // vertex 2 i sits at (i, 0, 0): exactly i from vertex 0
   const RowMatrixX2i E = edges_of(m);
+  const VertexAdjacency A = vertex_adjacency(E, static_cast<int>(m.V.rows()));
   for (bool along : {false, true}) {
-    const std::vector<int> at = vertices_within_distance(m.V, E, {0}, 2.0, along);
+    const std::vector<int> at = vertices_within_distance(m.V, A, {0}, 2.0, along);
     EXPECT_NE(std::find(at.begin(), at.end(), 4), at.end()) << along;
     EXPECT_EQ(std::find(at.begin(), at.end(), 6), at.end()) << along;
-    const std::vector<int> below = vertices_within_distance(m.V, E, {0}, std::nextafter(2.0, 0.0), along);
+    const std::vector<int> below = vertices_within_distance(m.V, A, {0}, std::nextafter(2.0, 0.0), along);
     EXPECT_EQ(std::find(below.begin(), below.end(), 4), below.end()) << along;
   }
   // (0, 1) and (1, 0) are 1 away, both ways; (1, 1) is sqrt(2) away, both ways (the diagonal edge).
-  for (bool along : {false, true}) EXPECT_EQ(vertices_within_distance(m.V, E, {0}, 1.0, along), (std::vector<int>{0, 1, 2}));
+  for (bool along : {false, true}) EXPECT_EQ(vertices_within_distance(m.V, A, {0}, 1.0, along), (std::vector<int>{0, 1, 2}));
 }
 
 TEST(RegionByDistance, AlongTheEdgesStaysOnTheHandlesComponent) {
@@ -93,8 +94,9 @@ TEST(RegionByDistance, AlongTheEdgesStaysOnTheHandlesComponent) {
   add_strip(m, 3, 0.0);
   add_strip(m, 3, 0.5);  // a second component half a unit above the first
   const RowMatrixX2i E = edges_of(m);
-  const std::vector<int> straight = vertices_within_distance(m.V, E, {0}, 0.6, false);
-  const std::vector<int> along = vertices_within_distance(m.V, E, {0}, 0.6, true);
+  const VertexAdjacency A = vertex_adjacency(E, static_cast<int>(m.V.rows()));
+  const std::vector<int> straight = vertices_within_distance(m.V, A, {0}, 0.6, false);
+  const std::vector<int> along = vertices_within_distance(m.V, A, {0}, 0.6, true);
   EXPECT_EQ(straight, (std::vector<int>{0, 8}));  // 8 is vertex 0's twin above it
   EXPECT_EQ(along, (std::vector<int>{0}));
 }
@@ -113,9 +115,10 @@ TEST(RegionByDistance, AlongTheEdgesAroundAUTurn) {
   for (size_t k = 0; k < keep_faces.size(); ++k) F.row(static_cast<Eigen::Index>(k)) = m.F.row(keep_faces[k]);
   m.F = F;
   const RowMatrixX2i E = edges_of(m);
+  const VertexAdjacency A = vertex_adjacency(E, static_cast<int>(m.V.rows()));
   const int handle = 0, across = 4 * 5;  // (0, 0) and (0, 4): 4 apart, farther along the U
-  const std::vector<int> straight = vertices_within_distance(m.V, E, {handle}, 4.0, false);
-  const std::vector<int> along = vertices_within_distance(m.V, E, {handle}, 4.0, true);
+  const std::vector<int> straight = vertices_within_distance(m.V, A, {handle}, 4.0, false);
+  const std::vector<int> along = vertices_within_distance(m.V, A, {handle}, 4.0, true);
   EXPECT_NE(std::find(straight.begin(), straight.end(), across), straight.end());
   EXPECT_EQ(std::find(along.begin(), along.end(), across), along.end());
   EXPECT_EQ(along, brute_along_edges(m.V, E, {handle}, 4.0));
@@ -126,6 +129,7 @@ TEST(RegionByDistance, AlongTheEdgesAroundAUTurn) {
 TEST(RegionByDistance, MatchesBruteForce) {
   const test::TestMesh m = test::grid(40, 30, 0.3);
   const RowMatrixX2i E = edges_of(m);
+  const VertexAdjacency A = vertex_adjacency(E, static_cast<int>(m.V.rows()));
   std::mt19937 rng(7);
   std::uniform_int_distribution<int> vertex(0, static_cast<int>(m.V.rows()) - 1);
   std::uniform_real_distribution<double> radius(0.01, 0.4);
@@ -133,18 +137,19 @@ TEST(RegionByDistance, MatchesBruteForce) {
     std::vector<int> seeds(static_cast<size_t>(1 + trial * 7));  // beyond one k-d leaf
     for (int& s : seeds) s = vertex(rng);
     const double r = radius(rng);
-    EXPECT_EQ(vertices_within_distance(m.V, E, seeds, r, false), brute_straight_line(m.V, seeds, r)) << trial;
-    EXPECT_EQ(vertices_within_distance(m.V, E, seeds, r, true), brute_along_edges(m.V, E, seeds, r)) << trial;
+    EXPECT_EQ(vertices_within_distance(m.V, A, seeds, r, false), brute_straight_line(m.V, seeds, r)) << trial;
+    EXPECT_EQ(vertices_within_distance(m.V, A, seeds, r, true), brute_along_edges(m.V, E, seeds, r)) << trial;
   }
 }
 
 TEST(RegionByDistance, RejectsBadRadiiAndSeeds) {
   const test::TestMesh m = test::grid(4, 4);
   const RowMatrixX2i E = edges_of(m);
+  const VertexAdjacency A = vertex_adjacency(E, static_cast<int>(m.V.rows()));
   for (double r : {0.0, -1.0, std::nan(""), std::numeric_limits<double>::infinity()})
-    EXPECT_THROW(vertices_within_distance(m.V, E, {0}, r, false), std::invalid_argument) << r;
-  EXPECT_THROW(vertices_within_distance(m.V, E, {16}, 1.0, true), std::out_of_range);
-  EXPECT_THROW(vertices_within_distance(m.V, E, {-1}, 1.0, false), std::out_of_range);
+    EXPECT_THROW(vertices_within_distance(m.V, A, {0}, r, false), std::invalid_argument) << r;
+  EXPECT_THROW(vertices_within_distance(m.V, A, {16}, 1.0, true), std::out_of_range);
+  EXPECT_THROW(vertices_within_distance(m.V, A, {-1}, 1.0, false), std::out_of_range);
 }
 
 namespace {
@@ -154,9 +159,10 @@ struct Layout {
   EdgeTopology topo = build_edge_topology(mesh.F, static_cast<int>(mesh.V.rows()));
   NodeGraph g = build_node_graph(mesh.V, mesh.F, topo, Domain::Edge, true);
   std::vector<bool> referenced = referenced_vertices(mesh.F, static_cast<int>(mesh.V.rows()));
+  VertexAdjacency adjacency = vertex_adjacency(topo.edges, static_cast<int>(mesh.V.rows()));
 
   ConstrainedSystem layout(const ConstraintSets& sets) const {
-    return constrained_layout(g, mesh.V, topo.edges, referenced, sets);
+    return constrained_layout(g, mesh.V, adjacency, referenced, sets);
   }
 };
 
@@ -173,7 +179,7 @@ TEST(RegionByDistance, RadiusLaysOutAsTheSameRoi) {
     ConstraintSets by_list;
     by_list.handles = by_radius.handles;
     by_list.statics = by_radius.statics;
-    by_list.roi = vertices_within_distance(c.mesh.V, c.topo.edges, {40}, 0.3, along);
+    by_list.roi = vertices_within_distance(c.mesh.V, c.adjacency, {40}, 0.3, along);
     const ConstrainedSystem a = c.layout(by_radius), b = c.layout(by_list);
     EXPECT_EQ(a.free_vertices, b.free_vertices);
     EXPECT_EQ(a.fixed_vertices, b.fixed_vertices);

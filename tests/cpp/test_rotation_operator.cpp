@@ -128,7 +128,7 @@ TEST(RotationOperator, AssembledOperatorMatchesTheRightSideOfTheEnergy) {
       if (m.V(v, 2) < m.V.col(2).minCoeff() + 0.1) sets.statics.push_back(v);
       if (m.V(v, 2) > m.V.col(2).maxCoeff() - 0.1) sets.handles.push_back(v);
     }
-    ConstrainedSystem sys = build_constrained_system(g, m.V, topo.edges, referenced_vertices(m.F, n), sets);
+    ConstrainedSystem sys = build_constrained_system(g, m.V, vertex_adjacency(topo.edges, n), referenced_vertices(m.F, n), sets);
     EXPECT_EQ(sys.similarity_floor, similarity_floor(domain));
     sys.similarity_floor = floor;
     const NodeStencil& st = sys.stencil;

@@ -94,7 +94,7 @@ TEST_P(Restriction, RefusesASetThatFreesMoreOrAnotherStiffness) {
   const auto [domain, with_roi] = GetParam();
   const Case c(domain, with_roi);
   // The roles reversed: the whole set is not within the part.
-  const ConstrainedSystem part = c.part_whole(), whole_layout = constrained_layout(c.g, c.mesh.V, c.topo.edges,
+  const ConstrainedSystem part = c.part_whole(), whole_layout = constrained_layout(c.g, c.mesh.V, c.adjacency,
                                                                                      c.referenced, c.whole_sets);
   EXPECT_FALSE(frees_subset(whole_layout, part));
   const Eigen::VectorXd half = Eigen::VectorXd::Constant(c.g.n_nodes, 0.5);

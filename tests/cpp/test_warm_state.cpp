@@ -44,7 +44,7 @@ bool is_identity_fit(const LocalFit& fit, int terms) {
 TEST(WarmState, AWarmStartTakesTheStoredFitAsItIs) {
   const Grid c(Domain::Edge);
   const ConstrainedSystem sys = c.layout(c.whole_sets);
-  WarmState warm(c.g.n_nodes);
+  WarmState warm;
   EXPECT_FALSE(warm.has_fit());
   EXPECT_TRUE(is_identity_fit(warm.starting_fit(sys, true), sys.n_terms()));  // nothing stored yet
 
@@ -63,7 +63,7 @@ TEST(WarmState, AfterAConstraintChangeEachTermStartsFromItsNodesFit) {
     const Grid c(domain);
     const ConstrainedSystem part = c.layout(c.part_sets), whole = c.layout(c.whole_sets);
     ASSERT_LT(part.n_terms(), whole.n_terms());
-    WarmState warm(c.g.n_nodes);
+    WarmState warm;
     warm.store(node_fit(part));
     warm.keep_per_node(part.term_nodes);  // the group is released: whole's terms renumber
     EXPECT_FALSE(warm.has_fit());
@@ -88,7 +88,7 @@ TEST(WarmState, AfterAConstraintChangeEachTermStartsFromItsNodesFit) {
 TEST(WarmState, AConstraintChangeWithoutAStoredFitKeepsNothing) {
   const Grid c(Domain::Primal);
   const ConstrainedSystem sys = c.layout(c.whole_sets);
-  WarmState warm(c.g.n_nodes);
+  WarmState warm;
   warm.keep_per_node(sys.term_nodes);
   EXPECT_TRUE(is_identity_fit(warm.starting_fit(sys, true), sys.n_terms()));
 }

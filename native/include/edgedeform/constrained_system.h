@@ -17,6 +17,7 @@
 #include "edgedeform/local_step.h"
 #include "edgedeform/node_graph.h"
 #include "edgedeform/rotation_operator.h"
+#include "edgedeform/vertex_adjacency.h"
 
 namespace edgedeform {
 
@@ -56,14 +57,14 @@ struct ConstrainedSystem {
 // Throws std::invalid_argument / std::out_of_range for bad constraint sets.
 // = constrained_layout, then add_jacobians.
 ConstrainedSystem build_constrained_system(const NodeGraph& graph, const RowMatrixX3d& rest,
-                                           const RowMatrixX2i& mesh_edges,
+                                           const VertexAdjacency& adjacency,
                                            const std::vector<bool>& referenced,
                                            const ConstraintSets& sets);
 
 // Everything but J1, J2: vertex roles, local ids, active terms, stencil, warnings. Throws
 // like build_constrained_system.
 ConstrainedSystem constrained_layout(const NodeGraph& graph, const RowMatrixX3d& rest,
-                                     const RowMatrixX2i& mesh_edges, const std::vector<bool>& referenced,
+                                     const VertexAdjacency& adjacency, const std::vector<bool>& referenced,
                                      const ConstraintSets& sets);
 
 // Positions of the stencil nodes (#stencil nodes x 3) from local vertex positions

@@ -24,6 +24,7 @@
 #include "edgedeform/solve_types.h"
 #include "edgedeform/sparse_cholesky.h"
 #include "edgedeform/stiffness.h"
+#include "edgedeform/vertex_adjacency.h"
 #include "edgedeform/warm_state.h"
 
 namespace edgedeform {
@@ -71,6 +72,7 @@ class Deformer {
   const RowMatrixX3d& rest() const { return rest_; }
   const RowMatrixX3i& faces() const { return faces_; }
   const EdgeTopology& topology() const { return topology_; }
+  const VertexAdjacency& adjacency() const { return adjacency_; }
   const NodeGraph& graph() const { return graph_; }
   const Eigen::VectorXd& node_lambda() const { return node_lambda_; }
   const Eigen::VectorXd& vertex_lambda() const { return vertex_lambda_; }
@@ -106,6 +108,7 @@ class Deformer {
   RowMatrixX3d rest_;
   RowMatrixX3i faces_;
   EdgeTopology topology_;
+  VertexAdjacency adjacency_;  // of topology_'s edges: the region and component walks
   NodeGraph graph_;
   std::vector<bool> referenced_;
   SafeRange safe_range_;  // targets and initial positions are checked against it

@@ -23,12 +23,13 @@ struct NodeStencil {
   int n_arcs() const { return static_cast<int>(neighbour.size()); }
 };
 
-// The terms of `term_nodes` (global node ids) of `graph`, with rest node positions
-// `rest_nodes`; `position_index` maps a global node id to its row in the position arrays the
+// The terms of `term_nodes` (global node ids) of `graph`, with the rest vertex positions
+// `rest_vertices` (only the nodes the terms touch are placed: a small region of a large
+// mesh costs what the region does); `position_index` maps a global node id to its row in the position arrays the
 // stencil will be evaluated on. Arcs of weight 0 stay: they add nothing to the energy, but
 // their directions settle the rotation of a node whose weighted arcs are all collinear.
 struct NodeGraph;
-NodeStencil build_stencil(const NodeGraph& graph, const RowMatrixX3d& rest_nodes,
+NodeStencil build_stencil(const NodeGraph& graph, const RowMatrixX3d& rest_vertices,
                           const std::vector<int>& term_nodes, const std::vector<int>& position_index);
 
 // Result of the local step for every term.

@@ -32,6 +32,10 @@ struct NodeGraph {
   int vertices_per_node() const { return domain == Domain::Edge ? 2 : 1; }
   // Node positions p = P x.
   RowMatrixX3d node_positions(const RowMatrixX3d& X) const;
+  // Row i of P x alone.
+  Eigen::RowVector3d node_position(const RowMatrixX3d& X, int i) const {
+    return 0.5 * (X.row(node_vertices(i, 0)) + X.row(node_vertices(i, 1)));
+  }
   // P (n_nodes x n_vertices): D in the edge domain, I in the primal one.
   SparseMatrix node_matrix() const;
   // Graph Laplacian: L_ii = sum_j w_ij, L_ij = -w_ij.

@@ -1,5 +1,6 @@
 // Which vertices share a mesh edge with which: the graph walks over the surface (components
-// that touch no constraint, regions picked along the edges) run on it.
+// that touch no constraint, regions picked along the edges) run on it. The Deformer builds
+// it once per mesh, so that a set_constraints on a large mesh does not rebuild it.
 #pragma once
 
 #include <vector>
@@ -8,8 +9,16 @@
 
 namespace edgedeform {
 
-// Compressed rows over `n` vertices: the neighbours of v are adj[offsets[v] .. offsets[v + 1]),
-// in the order of `edges` (#E x 2, vertex ids < n).
-void vertex_adjacency(const RowMatrixX2i& edges, int n, std::vector<int>& offsets, std::vector<int>& adj);
+// Compressed rows: the neighbours of v are neighbours[offsets[v] .. offsets[v + 1]), in the
+// order of the edges it was built from.
+struct VertexAdjacency {
+  std::vector<int> offsets{0};
+  std::vector<int> neighbours;
+
+  int n_vertices() const { return static_cast<int>(offsets.size()) - 1; }
+};
+
+// Over `n` vertices from `edges` (#E x 2, vertex ids < n).
+VertexAdjacency vertex_adjacency(const RowMatrixX2i& edges, int n);
 
 }  // namespace edgedeform

@@ -1,13 +1,16 @@
 // The warm state of live editing: the local fit (rotations, scales, SVD frames) the next
 // solve starts from. It is kept twice over: per term of the current constraint set, as the
 // last solve left it (a live drag reuses it as it is), and per graph node, once the set
-// changes and its terms are renumbered.
+// changes and its terms are renumbered. Only nodes some solve fitted are kept per node (a
+// hash map, not an array over the graph): a small region of a 560k-vertex mesh would
+// otherwise carry 250 MB of identity rotations.
 //
 // Invalidation: store() after each solve makes the per-term fit valid; a constraint change
 // (keep_per_node) moves it into the per-node copy; starting_fit() hands the per-term fit
 // over (it is then the solve's, until stored again).
 #pragma once
 
+#include <unordered_map>
 #include <vector>
 
 #include "edgedeform/constrained_system.h"
@@ -18,7 +21,7 @@ namespace edgedeform {
 class WarmState {
  public:
   // No fit yet: every node at R = I, s = 1.
-  explicit WarmState(int n_nodes = 0);
+  WarmState() = default;
 
   // The fit a solve on `system` starts from. warm = warm start without an initial shape.
   // - warm, with a stored fit of this set: that fit, moved out (no copies).
@@ -40,10 +43,12 @@ class WarmState {
  private:
   LocalFit last_fit_;
   bool last_fit_valid_ = false;
-  std::vector<Eigen::Matrix3d> node_rotation_;
-  Eigen::VectorXd node_scale_;
-  std::vector<Eigen::Matrix3d> node_right_vectors_;  // starts the next SVD of each node
-  bool has_previous_ = false;  // some node holds a solved fit
+  struct NodeFit {
+    Eigen::Matrix3d rotation;
+    Eigen::Matrix3d right_vectors;  // starts the next SVD of the node
+    double scale;
+  };
+  std::unordered_map<int, NodeFit> node_fit_;  // graph node -> its last solved fit
 };
 
 }  // namespace edgedeform

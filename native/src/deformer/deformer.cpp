@@ -57,6 +57,7 @@ Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, 
   rest_ = V;
   faces_ = F;
   topology_ = build_edge_topology(F, static_cast<int>(V.rows()));
+  adjacency_ = vertex_adjacency(topology_.edges, static_cast<int>(V.rows()));
   graph_ = build_node_graph(V, F, topology_, domain, clamp_negative_weights);
   safe_range_.limit = largest_safe_distance(graph_.arc_weights.cwiseAbs().sum());
   check_distance(V, safe_range_.center, safe_range_.limit, "V");
@@ -65,7 +66,6 @@ Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, 
   seam_tolerance_ = 1e-6 * (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
   vertex_lambda_ = Eigen::VectorXd::Constant(V.rows(), 0.5);
   node_lambda_ = node_stiffness(graph_, vertex_lambda_);
-  warm_ = WarmState(graph_.n_nodes);
   // Over the vertices the faces use: stray vertices never move and should not set the scale.
   Eigen::RowVector3d lo = Eigen::RowVector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (Eigen::Index v = 0; v < V.rows(); ++v)
@@ -80,7 +80,7 @@ Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, 
 void Deformer::set_constraints(const ConstraintSets& sets) {
   std::lock_guard<std::mutex> lock(mutex_);
   // The layout validates the sets before anything changes.
-  ConstrainedSystem layout = constrained_layout(graph_, rest_, topology_.edges, referenced_, sets);
+  ConstrainedSystem layout = constrained_layout(graph_, rest_, adjacency_, referenced_, sets);
   std::shared_ptr<const ConstrainedSystem> system = operators_.set_system(std::move(layout));
   if (system_) warm_.keep_per_node(system_->term_nodes);  // while the old terms are known
   system_ = std::move(system);
@@ -275,7 +275,7 @@ double Deformer::energy(const RowMatrixX3d& X) const {
   if (!full_stencil_) {
     std::vector<int> all(static_cast<size_t>(graph_.n_nodes));
     for (int i = 0; i < graph_.n_nodes; ++i) all[static_cast<size_t>(i)] = i;
-    full_stencil_ = std::make_unique<NodeStencil>(build_stencil(graph_, graph_.node_positions(rest_), all, all));
+    full_stencil_ = std::make_unique<NodeStencil>(build_stencil(graph_, rest_, all, all));
   }
   LocalFit fit;
   fit_local(*full_stencil_, graph_.node_positions(X), node_lambda_, fit,

@@ -11,7 +11,7 @@
 
 namespace edgedeform {
 
-NodeStencil build_stencil(const NodeGraph& g, const RowMatrixX3d& rest_nodes, const std::vector<int>& term_nodes,
+NodeStencil build_stencil(const NodeGraph& g, const RowMatrixX3d& rest_vertices, const std::vector<int>& term_nodes,
                           const std::vector<int>& position_index) {
   NodeStencil st;
   const int T = static_cast<int>(term_nodes.size());
@@ -22,12 +22,13 @@ NodeStencil build_stencil(const NodeGraph& g, const RowMatrixX3d& rest_nodes, co
   for (int t = 0; t < T; ++t) {
     const int i = term_nodes[static_cast<size_t>(t)];
     st.self[static_cast<size_t>(t)] = position_index[static_cast<size_t>(i)];
+    const Eigen::RowVector3d pi = g.node_position(rest_vertices, i);
     for (int k = g.offsets[static_cast<size_t>(i)]; k < g.offsets[static_cast<size_t>(i) + 1]; ++k) {
       const double w = g.adjacency_weights[static_cast<size_t>(k)];
       const int j = g.adjacency[static_cast<size_t>(k)];
       st.neighbour.push_back(position_index[static_cast<size_t>(j)]);
       st.weight.push_back(w);
-      rest_edges.push_back((rest_nodes.row(i) - rest_nodes.row(j)).transpose());
+      rest_edges.push_back((pi - g.node_position(rest_vertices, j)).transpose());
     }
     st.offsets.push_back(static_cast<int>(st.neighbour.size()));
   }

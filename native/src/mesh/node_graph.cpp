@@ -92,7 +92,7 @@ NodeGraph build_node_graph(const RowMatrixX3d& V, const RowMatrixX3i& F, const E
 
 RowMatrixX3d NodeGraph::node_positions(const RowMatrixX3d& X) const {
   RowMatrixX3d p(n_nodes, 3);
-  for (int i = 0; i < n_nodes; ++i) p.row(i) = 0.5 * (X.row(node_vertices(i, 0)) + X.row(node_vertices(i, 1)));
+  for (int i = 0; i < n_nodes; ++i) p.row(i) = node_position(X, i);
   return p;
 }
 

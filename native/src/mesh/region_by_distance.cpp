@@ -118,12 +118,12 @@ std::vector<int> within_straight_line(const RowMatrixX3d& V, const std::vector<i
 }
 
 // Multi-source Dijkstra that never queues a vertex beyond the radius: its cost grows with
-// the region, apart from the adjacency over the whole mesh.
-std::vector<int> within_along_edges(const RowMatrixX3d& V, const RowMatrixX2i& edges, const std::vector<int>& seeds,
-                                    double radius) {
+// the region, apart from the distance array over the whole mesh.
+std::vector<int> within_along_edges(const RowMatrixX3d& V, const VertexAdjacency& adjacency,
+                                    const std::vector<int>& seeds, double radius) {
   const int n = static_cast<int>(V.rows());
-  std::vector<int> offsets, adj;
-  vertex_adjacency(edges, n, offsets, adj);
+  const std::vector<int>& offsets = adjacency.offsets;
+  const std::vector<int>& adj = adjacency.neighbours;
   std::vector<double> dist(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
   using Entry = std::pair<double, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
@@ -153,7 +153,7 @@ std::vector<int> within_along_edges(const RowMatrixX3d& V, const RowMatrixX2i& e
 
 }  // namespace
 
-std::vector<int> vertices_within_distance(const RowMatrixX3d& V, const RowMatrixX2i& edges,
+std::vector<int> vertices_within_distance(const RowMatrixX3d& V, const VertexAdjacency& adjacency,
                                           const std::vector<int>& seeds, double radius, bool along_edges) {
   if (!(std::isfinite(radius) && radius > 0.0)) {
     std::ostringstream msg;
@@ -161,11 +161,14 @@ std::vector<int> vertices_within_distance(const RowMatrixX3d& V, const RowMatrix
     throw std::invalid_argument(msg.str());
   }
   const int n = static_cast<int>(V.rows());
+  if (along_edges && adjacency.n_vertices() != n)
+    throw std::invalid_argument("the adjacency has " + std::to_string(adjacency.n_vertices()) + " vertices, V has " +
+                                std::to_string(n));
   for (int s : seeds)
     if (s < 0 || s >= n)
       throw std::out_of_range("seed vertex " + std::to_string(s) + " is out of range [0, " + std::to_string(n) + ")");
   if (seeds.empty()) return {};
-  return along_edges ? within_along_edges(V, edges, seeds, radius) : within_straight_line(V, seeds, radius);
+  return along_edges ? within_along_edges(V, adjacency, seeds, radius) : within_straight_line(V, seeds, radius);
 }
 
 }  // namespace edgedeform

@@ -22,10 +22,10 @@ enum Role : char { kFree = 0, kHandle = 1, kAtRest = 2 };
 
 // Free components that touch no constrained vertex have nothing to hold them: they stay at
 // rest (their system would be singular). Returns how many vertices were pinned that way.
-int pin_unanchored_components(const RowMatrixX2i& edges, std::vector<Role>& role, int& n_components) {
+int pin_unanchored_components(const VertexAdjacency& adjacency, std::vector<Role>& role, int& n_components) {
   const int n = static_cast<int>(role.size());
-  std::vector<int> offsets, adj;
-  vertex_adjacency(edges, n, offsets, adj);
+  const std::vector<int>& offsets = adjacency.offsets;
+  const std::vector<int>& adj = adjacency.neighbours;
   std::vector<int> component(static_cast<size_t>(n), -1);
   int pinned = 0;
   n_components = 0;
@@ -62,23 +62,23 @@ int pin_unanchored_components(const RowMatrixX2i& edges, std::vector<Role>& role
 // The region of interest as a list: sets.roi, or the vertices within sets.roi_radius of a
 // handle. Either way the roles below come from one list, so a radius and the region it
 // picks, given as roi, are the same problem bit for bit.
-std::optional<std::vector<int>> region_of_interest(const RowMatrixX3d& rest, const RowMatrixX2i& mesh_edges,
+std::optional<std::vector<int>> region_of_interest(const RowMatrixX3d& rest, const VertexAdjacency& adjacency,
                                                    const ConstraintSets& sets) {
   if (sets.roi_radius && sets.roi)
     throw std::invalid_argument("roi and roi_radius both given: pass the region as one or the other");
   if (sets.roi_connected && !sets.roi_radius)
     throw std::invalid_argument("roi_connected needs roi_radius (the distance along the edges)");
   if (!sets.roi_radius) return sets.roi;
-  return vertices_within_distance(rest, mesh_edges, sets.handles, *sets.roi_radius, sets.roi_connected);
+  return vertices_within_distance(rest, adjacency, sets.handles, *sets.roi_radius, sets.roi_connected);
 }
 
 std::vector<Role> vertex_roles(int n, const std::vector<bool>& referenced, const RowMatrixX3d& rest,
-                               const RowMatrixX2i& mesh_edges, const ConstraintSets& sets,
+                               const VertexAdjacency& adjacency, const ConstraintSets& sets,
                                std::vector<std::string>& warnings) {
   check_index_set(sets.handles, n, "handles");
   check_index_set(sets.statics, n, "static");
   if (sets.handles.empty()) throw std::invalid_argument("handles is empty: at least one handle vertex is needed");
-  const std::optional<std::vector<int>> roi = region_of_interest(rest, mesh_edges, sets);
+  const std::optional<std::vector<int>> roi = region_of_interest(rest, adjacency, sets);
   std::vector<Role> role(static_cast<size_t>(n), kFree);
   for (int v : sets.handles) role[static_cast<size_t>(v)] = kHandle;
   for (int v : sets.statics) {
@@ -120,22 +120,25 @@ void require_jacobians(const ConstrainedSystem& sys) {
 
 }  // namespace
 
-ConstrainedSystem build_constrained_system(const NodeGraph& g, const RowMatrixX3d& rest, const RowMatrixX2i& mesh_edges,
-                                           const std::vector<bool>& referenced, const ConstraintSets& sets) {
-  ConstrainedSystem sys = constrained_layout(g, rest, mesh_edges, referenced, sets);
+ConstrainedSystem build_constrained_system(const NodeGraph& g, const RowMatrixX3d& rest,
+                                           const VertexAdjacency& adjacency, const std::vector<bool>& referenced,
+                                           const ConstraintSets& sets) {
+  ConstrainedSystem sys = constrained_layout(g, rest, adjacency, referenced, sets);
   add_jacobians(sys);
   return sys;
 }
 
-ConstrainedSystem constrained_layout(const NodeGraph& g, const RowMatrixX3d& rest, const RowMatrixX2i& mesh_edges,
+ConstrainedSystem constrained_layout(const NodeGraph& g, const RowMatrixX3d& rest, const VertexAdjacency& adjacency,
                                      const std::vector<bool>& referenced, const ConstraintSets& sets) {
+  if (adjacency.n_vertices() != g.n_vertices)
+    throw std::logic_error("constrained_layout: the adjacency and the graph have different vertex counts");
   ConstrainedSystem sys;
   const int n = g.n_vertices;
   sys.n_vertices = n;
   sys.similarity_floor = similarity_floor(g.domain);
-  std::vector<Role> role = vertex_roles(n, referenced, rest, mesh_edges, sets, sys.warnings);
+  std::vector<Role> role = vertex_roles(n, referenced, rest, adjacency, sets, sys.warnings);
   int n_components = 0;
-  const int pinned = pin_unanchored_components(mesh_edges, role, n_components);
+  const int pinned = pin_unanchored_components(adjacency, role, n_components);
   if (sets.roi_radius && std::find(role.begin(), role.end(), kFree) == role.end())
     throw std::invalid_argument(no_free_vertex_message(sets));
   if (pinned > 0)
@@ -191,7 +194,7 @@ ConstrainedSystem constrained_layout(const NodeGraph& g, const RowMatrixX3d& res
     }
 
   // Stencil of the active terms.
-  sys.stencil = build_stencil(g, g.node_positions(rest), sys.term_nodes, stencil_index);
+  sys.stencil = build_stencil(g, rest, sys.term_nodes, stencil_index);
   sys.rest_scale = sys.stencil.rest_norm.sum();
   return sys;
 }

@@ -4,11 +4,6 @@
 
 namespace edgedeform {
 
-WarmState::WarmState(int n_nodes)
-    : node_rotation_(static_cast<size_t>(n_nodes), Eigen::Matrix3d::Identity()),
-      node_scale_(Eigen::VectorXd::Ones(n_nodes)),
-      node_right_vectors_(node_rotation_) {}
-
 LocalFit WarmState::starting_fit(const ConstrainedSystem& sys, bool warm) {
   const auto T = static_cast<size_t>(sys.n_terms());
   LocalFit fit;
@@ -21,12 +16,13 @@ LocalFit WarmState::starting_fit(const ConstrainedSystem& sys, bool warm) {
   fit.rotation.assign(T, Eigen::Matrix3d::Identity());
   fit.right_vectors.assign(T, Eigen::Matrix3d::Identity());
   fit.scale = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(T));
-  if (warm && has_previous_)  // constraints changed since
+  if (warm && !node_fit_.empty())  // constraints changed since
     for (size_t t = 0; t < T; ++t) {
-      const auto i = static_cast<size_t>(sys.term_nodes[t]);
-      fit.rotation[t] = node_rotation_[i];
-      fit.right_vectors[t] = node_right_vectors_[i];
-      fit.scale(static_cast<Eigen::Index>(t)) = node_scale_(sys.term_nodes[t]);
+      const auto kept = node_fit_.find(sys.term_nodes[t]);
+      if (kept == node_fit_.end()) continue;  // never solved: R = I, s = 1
+      fit.rotation[t] = kept->second.rotation;
+      fit.right_vectors[t] = kept->second.right_vectors;
+      fit.scale(static_cast<Eigen::Index>(t)) = kept->second.scale;
     }
   return fit;
 }
@@ -38,13 +34,10 @@ void WarmState::store(LocalFit fit) {
 
 void WarmState::keep_per_node(const std::vector<int>& nodes) {
   if (!last_fit_valid_) return;
-  for (size_t t = 0; t < nodes.size(); ++t) {
-    const auto i = static_cast<size_t>(nodes[t]);
-    node_rotation_[i] = last_fit_.rotation[t];
-    node_right_vectors_[i] = last_fit_.right_vectors[t];
-    node_scale_(nodes[t]) = last_fit_.scale(static_cast<Eigen::Index>(t));
-  }
-  has_previous_ = true;
+  node_fit_.reserve(node_fit_.size() + nodes.size());
+  for (size_t t = 0; t < nodes.size(); ++t)
+    node_fit_[nodes[t]] = {last_fit_.rotation[t], last_fit_.right_vectors[t],
+                           last_fit_.scale(static_cast<Eigen::Index>(t))};
   last_fit_valid_ = false;
 }
 
