@@ -50,8 +50,16 @@ NodeGraph build_node_graph(const RowMatrixX3d& V, const RowMatrixX3i& F, const E
   std::sort(contributions.begin(), contributions.end(),
             [](const auto& x, const auto& y) { return std::get<0>(x) < std::get<0>(y); });
 
+  // Reserved to the arc count, and the contributions freed before the adjacency is built:
+  // at 560k vertices the peak of this function would otherwise be ~90 MB above its result.
+  size_t n_unique = 0;
+  for (size_t s = 0; s < contributions.size(); ++s)
+    n_unique += s == 0 || std::get<0>(contributions[s]) != std::get<0>(contributions[s - 1]);
   std::vector<int> ai, aj;
   std::vector<double> aw;
+  ai.reserve(n_unique);
+  aj.reserve(n_unique);
+  aw.reserve(n_unique);
   for (size_t s = 0; s < contributions.size();) {
     double w = 0.0;
     size_t e = s;
@@ -63,6 +71,7 @@ NodeGraph build_node_graph(const RowMatrixX3d& V, const RowMatrixX3i& F, const E
     aw.push_back(clamp_negative_weights ? std::max(w, 0.0) : w);
     s = e;
   }
+  std::vector<std::tuple<int64_t, double>>().swap(contributions);
   const Eigen::Index n_arcs = static_cast<Eigen::Index>(ai.size());
   g.arcs.resize(n_arcs, 2);
   g.arc_weights.resize(n_arcs);
