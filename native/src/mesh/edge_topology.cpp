@@ -1,35 +1,48 @@
 #include "edgedeform/edge_topology.h"
 
 #include <algorithm>
-#include <cstdint>
 #include <vector>
+
+#include "edgedeform/bucket_order.h"
 
 namespace edgedeform {
 
 EdgeTopology build_edge_topology(const RowMatrixX3i& F, int n_vertices) {
   const Eigen::Index m = F.rows();
-  // One (edge key, face corner) pair per corner; sorting groups the corners of each edge.
-  std::vector<std::pair<int64_t, int>> corners(static_cast<size_t>(3 * m));
+  // Corner 3 f + k of face f names the edge opposite it, (a, b) with a < b. The corners are
+  // grouped by a (a counting sort), then each group by (b, corner): the edges come out in
+  // lexicographic order, the corners of one edge together.
+  const auto n_corners = static_cast<size_t>(3 * m);
+  std::vector<int> low(n_corners), high(n_corners);
   for (Eigen::Index f = 0; f < m; ++f)
     for (int k = 0; k < 3; ++k) {
       const int a = F(f, (k + 1) % 3), b = F(f, (k + 2) % 3);
-      const int64_t key = static_cast<int64_t>(std::min(a, b)) * n_vertices + std::max(a, b);
-      corners[static_cast<size_t>(3 * f + k)] = {key, static_cast<int>(3 * f + k)};
+      low[static_cast<size_t>(3 * f + k)] = std::min(a, b);
+      high[static_cast<size_t>(3 * f + k)] = std::max(a, b);
     }
-  std::sort(corners.begin(), corners.end());
+  Buckets by_low = bucket_order(low, n_vertices);
+  for (int v = 0; v < n_vertices; ++v)
+    std::sort(by_low.order.begin() + by_low.offsets[static_cast<size_t>(v)],
+              by_low.order.begin() + by_low.offsets[static_cast<size_t>(v) + 1], [&](int x, int y) {
+                return high[static_cast<size_t>(x)] != high[static_cast<size_t>(y)]
+                           ? high[static_cast<size_t>(x)] < high[static_cast<size_t>(y)]
+                           : x < y;
+              });
+  const std::vector<int>& corners = by_low.order;
 
   EdgeTopology topo;
   topo.face_edges.resize(m, 3);
   std::vector<int> a_list, b_list, counts;
   for (size_t s = 0; s < corners.size();) {
+    const auto first = static_cast<size_t>(corners[s]);
     size_t e = s;
-    while (e < corners.size() && corners[e].first == corners[s].first) ++e;
-    const int64_t key = corners[s].first;
-    const int a = static_cast<int>(key / n_vertices), b = static_cast<int>(key % n_vertices);
+    while (e < corners.size() && low[static_cast<size_t>(corners[e])] == low[first] &&
+           high[static_cast<size_t>(corners[e])] == high[first])
+      ++e;
     const int edge = static_cast<int>(a_list.size());
-    for (size_t c = s; c < e; ++c) topo.face_edges(corners[c].second / 3, corners[c].second % 3) = edge;
-    a_list.push_back(a);
-    b_list.push_back(b);
+    for (size_t c = s; c < e; ++c) topo.face_edges(corners[c] / 3, corners[c] % 3) = edge;
+    a_list.push_back(low[first]);
+    b_list.push_back(high[first]);
     counts.push_back(static_cast<int>(e - s));
     s = e;
   }

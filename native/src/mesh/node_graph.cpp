@@ -1,10 +1,9 @@
 #include "edgedeform/node_graph.h"
 
 #include <algorithm>
-#include <cstdint>
-#include <tuple>
 #include <vector>
 
+#include "edgedeform/bucket_order.h"
 #include "edgedeform/cotangent.h"
 
 namespace edgedeform {
@@ -34,9 +33,12 @@ NodeGraph build_node_graph(const RowMatrixX3d& V, const RowMatrixX3i& F, const E
   }
   g.n_nodes = static_cast<int>(g.node_vertices.rows());
 
-  // Every corner adds 1/2 cot(angle) to one arc; arcs met in several triangles add up.
-  std::vector<std::tuple<int64_t, double>> contributions;
-  contributions.reserve(static_cast<size_t>(3 * F.rows()));
+  // Every corner adds 1/2 cot(angle) to one arc (i, j), i < j; arcs met in several
+  // triangles add up, in face order. The corners are grouped by i (a counting sort), then
+  // each group by (j, corner): the arcs come out in lexicographic order.
+  const auto n_corners = static_cast<size_t>(3 * F.rows());
+  std::vector<int> first(n_corners), second(n_corners);
+  std::vector<double> half_cot(n_corners);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d a = V.row(F(f, k)).transpose();
@@ -44,34 +46,44 @@ NodeGraph build_node_graph(const RowMatrixX3d& V, const RowMatrixX3i& F, const E
       const Eigen::Vector3d v = V.row(F(f, (k + 2) % 3)).transpose() - a;
       auto [i, j] = corner_arc(F, topo, domain, f, k);
       if (i > j) std::swap(i, j);
-      contributions.emplace_back(static_cast<int64_t>(i) * g.n_nodes + j, 0.5 * safe_cotangent(u, v));
+      const auto c = static_cast<size_t>(3 * f + k);
+      first[c] = i;
+      second[c] = j;
+      half_cot[c] = 0.5 * safe_cotangent(u, v);
     }
   }
-  std::sort(contributions.begin(), contributions.end(),
-            [](const auto& x, const auto& y) { return std::get<0>(x) < std::get<0>(y); });
+  Buckets by_first = bucket_order(first, g.n_nodes);
+  std::vector<int>& order = by_first.order;
+  for (int i = 0; i < g.n_nodes; ++i)
+    std::sort(order.begin() + by_first.offsets[static_cast<size_t>(i)],
+              order.begin() + by_first.offsets[static_cast<size_t>(i) + 1], [&](int x, int y) {
+                return second[static_cast<size_t>(x)] != second[static_cast<size_t>(y)]
+                           ? second[static_cast<size_t>(x)] < second[static_cast<size_t>(y)]
+                           : x < y;
+              });
+  std::vector<int>().swap(by_first.offsets);
 
-  // Reserved to the arc count, and the contributions freed before the adjacency is built:
-  // at 560k vertices the peak of this function would otherwise be ~90 MB above its result.
-  size_t n_unique = 0;
-  for (size_t s = 0; s < contributions.size(); ++s)
-    n_unique += s == 0 || std::get<0>(contributions[s]) != std::get<0>(contributions[s - 1]);
   std::vector<int> ai, aj;
   std::vector<double> aw;
-  ai.reserve(n_unique);
-  aj.reserve(n_unique);
-  aw.reserve(n_unique);
-  for (size_t s = 0; s < contributions.size();) {
+  ai.reserve(n_corners);
+  aj.reserve(n_corners);
+  aw.reserve(n_corners);
+  for (size_t s = 0; s < order.size();) {
+    const auto c0 = static_cast<size_t>(order[s]);
     double w = 0.0;
     size_t e = s;
-    for (; e < contributions.size() && std::get<0>(contributions[e]) == std::get<0>(contributions[s]); ++e)
-      w += std::get<1>(contributions[e]);
-    const int64_t key = std::get<0>(contributions[s]);
-    ai.push_back(static_cast<int>(key / g.n_nodes));
-    aj.push_back(static_cast<int>(key % g.n_nodes));
+    for (; e < order.size() && first[static_cast<size_t>(order[e])] == first[c0] &&
+           second[static_cast<size_t>(order[e])] == second[c0];
+         ++e)
+      w += half_cot[static_cast<size_t>(order[e])];
+    ai.push_back(first[c0]);
+    aj.push_back(second[c0]);
     aw.push_back(clamp_negative_weights ? std::max(w, 0.0) : w);
     s = e;
   }
-  std::vector<std::tuple<int64_t, double>>().swap(contributions);
+  // Freed before the adjacency is built: at 560k vertices they are ~80 MB.
+  for (std::vector<int>* v : {&first, &second, &order}) std::vector<int>().swap(*v);
+  std::vector<double>().swap(half_cot);
   const Eigen::Index n_arcs = static_cast<Eigen::Index>(ai.size());
   g.arcs.resize(n_arcs, 2);
   g.arc_weights.resize(n_arcs);
