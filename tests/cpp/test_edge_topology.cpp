@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <utility>
+#include <vector>
+
 #include "edgedeform/edge_topology.h"
 #include "test_meshes.h"
 
@@ -52,4 +55,29 @@ TEST(EdgeTopology, NonManifoldEdgeKeepsAllItsFaces) {
       if (F(f, k) != 0 && F(f, k) != 1) opposite = k;
     EXPECT_EQ(t.face_edges(f, opposite), 0) << "face " << f;
   }
+}
+
+// The edges come out in lexicographic order and each face corner names its opposite edge,
+// on a mesh whose vertex ids are shuffled (the grouping by first vertex must not rely on
+// faces listing their vertices in order).
+TEST(EdgeTopology, EdgesAscendAndMatchTheirCornersWithShuffledIds) {
+  auto m = test::grid(23, 17);
+  const int n = static_cast<int>(m.V.rows());
+  std::vector<int> id(static_cast<size_t>(n));
+  for (int v = 0; v < n; ++v) id[static_cast<size_t>(v)] = (v * 7919) % n;  // 7919 is prime, n = 391 is not its multiple
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) m.F(f, k) = id[static_cast<size_t>(m.F(f, k))];
+  const auto t = build_edge_topology(m.F, n);
+  for (Eigen::Index e = 1; e < t.edges.rows(); ++e) {
+    const auto prev = std::make_pair(t.edges(e - 1, 0), t.edges(e - 1, 1));
+    EXPECT_LT(prev, std::make_pair(t.edges(e, 0), t.edges(e, 1))) << e;
+  }
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = m.F(f, (k + 1) % 3), b = m.F(f, (k + 2) % 3);
+      const int e = t.face_edges(f, k);
+      EXPECT_EQ(t.edges(e, 0), std::min(a, b));
+      EXPECT_EQ(t.edges(e, 1), std::max(a, b));
+    }
+  EXPECT_EQ(m.V.rows() - t.edges.rows() + m.F.rows(), 1);
 }
