@@ -44,6 +44,8 @@ PAGES = {
          "live_update.json", "bench/bench_live_update.py", "live_update_report:markdown"),
         ("How long does Live take to settle after the mouse stops?",
          "live_settle.json", "bench/bench_live_settle.py", "bench_live_settle:markdown"),
+        ("Does a region picked by radius cost what the region costs, whatever the mesh around it?",
+         "roi_scale.json", "bench/bench_roi_scale.py", "bench_roi_scale:markdown"),
         ("Does a region picked by radius kink where it ends? (the seam)",
          "roi_seam.json", "bench/bench_roi_seam.py", "bench_roi_seam:markdown"),
     ]),
