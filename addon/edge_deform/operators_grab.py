@@ -109,8 +109,21 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.refused = None         # why the last radius change was refused, for the header
         self.start_modal(context, ob)
         self.circle = overlay.RadiusCircle(self.area, self.circle_where)
+        self.status_drawn = None    # the key hints Blender last drew in the status bar
+        compat.status_bar(self.workspace, self.draw_status)
         self.show()
         return {'RUNNING_MODAL'}
+
+    def draw_status(self, layout):
+        """The keys in the status bar, as Blender's G lists its own."""
+        s = self.ob.edge_deform
+        hints = ["Enter/Click: confirm", "Esc/Right click: cancel", "X/Y/Z: axis",
+                 "O: proportional %s" % ("off" if s.proportional else "on")]
+        if s.proportional:
+            hints += ["Wheel/PgUp/PgDn: radius", "Alt+O: connected only"]
+        for hint in hints:
+            layout.label(text=hint)
+        self.status_drawn = hints
 
     def hold(self, solver, ob):
         """The Deformer holds the dragged and the pinned vertices, with the settings'
@@ -264,6 +277,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
 
     def end(self, context, result, restore=False):
         self.circle.remove()
+        compat.status_bar(self.workspace, None)
         self.end_modal(context)
         self.solver.release_grab()   # the settings' handles return on the next sync
         if restore:

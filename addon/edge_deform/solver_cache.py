@@ -74,11 +74,14 @@ def binding_steps(mesh, inputs, X, digest, what, fractions, owner):
 
 
 def cached_inputs(ob):
-    """The inputs of this object's last sync (playback: groups cannot change), or None."""
+    """The inputs of this object's last sync (playback: groups cannot change), or None
+    (also when the proportional settings changed since)."""
     binding = session.get(ob.data.as_pointer())
     inputs = None if binding is None else binding.inputs_of(ob.name_full)
     if inputs is None or binding.counts != mesh_arrays.topology_counts(ob.data):
         return None
+    if engine.region_radius(ob.edge_deform) != (inputs.roi_radius, inputs.roi_connected):
+        return None     # the radius changed: read again (off: the Region group is read)
     return engine.with_global_changes(inputs, ob)
 
 

@@ -147,7 +147,32 @@ def test_static_covering_the_region_is_refused():
     assert "make the radius larger" in msg, msg
 
 
+def test_frame_change_and_playback_read_the_radius():
+    """Deform on Frame Change solves within the radius; the inputs playback reuses are
+    dropped when the radius changes (then read again)."""
+    from edge_deform import solver_cache
+    ob, V, F, handle, ctrl, width = plane()
+    s = ob.edge_deform
+    s.animate = True
+    ctrl.keyframe_insert("location", frame=1)
+    ctrl.location.z += 0.2 * width
+    ctrl.keyframe_insert("location", frame=2)
+    bpy.context.scene.frame_set(2)
+    out = key_positions(ob).astype(np.float64)
+    outside = ~within(V, handle, s.proportional_radius)
+    assert np.array_equal(out[outside], positions(ob.data)[outside]), "outside at rest"
+    assert np.abs(out[handle, 2] - V[handle, 2] - 0.2 * width).max() < 1e-4
+    assert solver_cache.cached_inputs(ob) is not None, "playback may reuse these"
+    s.proportional_radius = 0.5 * width
+    assert solver_cache.cached_inputs(ob) is None, "a new radius: read again"
+    s.proportional_radius = 0.3 * width
+    s.proportional = False
+    assert solver_cache.cached_inputs(ob) is None, "off: read again (the Region group)"
+    s.animate = False
+
+
 if __name__ == "__main__":
     run([test_defaults, test_radius_reaches_the_core, test_radius_overrides_the_region_group,
          test_connected_only, test_radius_that_frees_nothing_is_refused,
-         test_static_covering_the_region_is_refused])
+         test_static_covering_the_region_is_refused,
+         test_frame_change_and_playback_read_the_radius])

@@ -11,7 +11,7 @@ fresh scene:
     followed;
   3 Live: a Page Down that would free no vertex is refused, the radius kept and said;
     Live started with such a radius is refused with the reason;
-  4 Grab: the header says the radius, the wheel and Page Down change it during the drag,
+  4 Grab: the header and the status bar say the radius and its keys, the wheel and Page Down change it during the drag,
     the circle is drawn, the drag goes on (the dragged vertices follow the pointer, the
     rest beyond the radius at rest); a refused Page Down keeps the radius; O turns it off.
 Screenshots: $EDGEDEFORM_TEST_OUT/proportional_*.png.
@@ -232,6 +232,8 @@ def s4_grab_keys_header_and_resize():
     from edge_deform import proportional
     header = running().header_text
     assert "Proportional: %s" % proportional.length(r0) in header, header
+    drawn = running().status_drawn or []
+    assert "Wheel/PgUp/PgDn: radius" in drawn and "O: proportional off" in drawn, drawn
     lifted = key_positions(ob)[handle].astype(float) - rest[handle]
     assert np.abs(lifted).max() > 0.01 * w, "the drag moved the handle"
 
