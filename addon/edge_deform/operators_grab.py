@@ -212,7 +212,9 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
 
     def show(self):
         """Blender's G way: the tool's state in the header while it runs."""
-        region = "%s (%s)" % (proportional.describe(self.ob.edge_deform), proportional.KEYS)
+        s = self.ob.edge_deform
+        region = proportional.describe(s) + (" (%s)" % proportional.SHORT_KEYS
+                                             if s.proportional else "")
         if self.refused:
             region = self.refused
         if self.state == Grab.WAITING:

@@ -13,6 +13,7 @@ GROW = {'PAGE_UP', 'WHEELDOWNMOUSE'}
 SHRINK = {'PAGE_DOWN', 'WHEELUPMOUSE'}
 SMALLEST = 1e-6     # the property's minimum (Blender's T_PROP_SIZE_MIN)
 KEYS = "Wheel/PgUp/PgDn: radius · O: proportional · Alt+O: connected"
+SHORT_KEYS = "Wheel/PgUp/PgDn, O"   # (Grab's header; its status bar lists them in full)
 NO_FREE_VERTEX = "no free vertex within roi_radius"   # the core's ValueError says this
 
 

@@ -8,7 +8,7 @@ fresh scene:
     the view says it), O turns it off and the wheel zooms again;
   2 Live: the radius shrinks while the controller is lifted: the handles stay on their
     controller, every vertex beyond the new radius is back at rest, a further lift is
-    followed;
+    followed; Esc puts the radius back with Live's other settings;
   3 Live: a Page Down that would free no vertex is refused, the radius kept and said;
     Live started with such a radius is refused with the reason;
   4 Grab: the header and the status bar say the radius and its keys, the wheel and Page Down change it during the drag,
@@ -171,6 +171,10 @@ def s2_live_resize_while_lifted():
     yield from until(lambda: followed(2 * dz), 30)
     assert followed(2 * dz), "a further lift is followed"
     assert np.abs(visible(ob)[outside] - rest[outside]).max() < 1e-6 * w
+    tap('ESC', at=center())
+    yield from until(lambda: running() is None)
+    assert running() is None
+    assert abs(s.proportional_radius - 0.5 * w) < 1e-6 * w, "Esc puts the radius back"
 
 
 def s3_live_refuses_a_radius_that_frees_nothing():
