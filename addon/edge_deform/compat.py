@@ -63,12 +63,3 @@ def icon(*names):
             return name
     return 'NONE'
 
-
-def uniform_color_shader():
-    """The builtin flat-colour shader: "UNIFORM_COLOR" from 3.5 on (the only name in 4.x
-    and later), "2D_UNIFORM_COLOR" in 3.4."""
-    import gpu
-    try:
-        return gpu.shader.from_builtin('UNIFORM_COLOR')
-    except ValueError:
-        return gpu.shader.from_builtin('2D_UNIFORM_COLOR')

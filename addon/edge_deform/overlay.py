@@ -12,8 +12,6 @@ import blf
 import bpy
 from bpy_extras.view3d_utils import location_3d_to_region_2d
 
-from . import compat
-
 NOTE_SECONDS = 5.0   # how long a note (a refused key) stays on screen
 
 
@@ -135,6 +133,8 @@ class RadiusCircle:
             self.area = None
 
     def draw(self):
+        # (Imported here: the add-on also registers in background Blender, where drawing
+        # is never called and gpu need not load.)
         import gpu
         from gpu_extras.batch import batch_for_shader
         context = bpy.context
@@ -159,7 +159,8 @@ class RadiusCircle:
         points = [(c.x + r * math.cos(t), c.y + r * math.sin(t))
                   for t in (2.0 * math.pi * i / CIRCLE_SEGMENTS
                             for i in range(CIRCLE_SEGMENTS + 1))]
-        shader = compat.uniform_color_shader()
+        # (The one name from 3.4, checked there, to 5.x; the "2D_" names went in 4.0.)
+        shader = gpu.shader.from_builtin('UNIFORM_COLOR')
         batch = batch_for_shader(shader, 'LINE_STRIP', {"pos": points})
         gpu.state.blend_set('ALPHA')
         shader.bind()
