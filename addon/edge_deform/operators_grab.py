@@ -79,6 +79,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             current = shown_shape.addon_shape(ob)
             pinned = np.setdiff1d(inputs.handles, moving)
             self.held = np.concatenate([moving, pinned])
+            self.group_region = None
             self.hold(solver, ob)
         except Exception:
             if solver is not None:
@@ -127,12 +128,20 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
 
     def hold(self, solver, ob):
         """The Deformer holds the dragged and the pinned vertices, with the settings'
-        static vertices and region (proportional on: the radius around all of them; the
-        Region group is read at the start only)."""
-        inputs = solver.inputs
+        static vertices and region: proportional on, the radius around all of them; off,
+        the Region group."""
         radius, connected = engine.region_radius(ob.edge_deform)
-        solver.hold_grab(self.held, inputs.static, None if radius else inputs.roi,
-                         radius, connected)
+        roi = None if radius is not None else self.region_vertices(solver, ob)
+        solver.hold_grab(self.held, solver.inputs.static, roi, radius, connected)
+
+    def region_vertices(self, solver, ob):
+        """The Region group's vertices (None: the whole mesh). With proportional on at the
+        start the group was not read (record 0056): it is read when O turns it off."""
+        if solver.inputs.roi is not None or not ob.edge_deform.roi_group:
+            return solver.inputs.roi
+        if self.group_region is None:
+            self.group_region = engine.gather_inputs(ob, require_handles=False).roi
+        return self.group_region
 
     def change_region(self, name, value):
         """O, Alt+O, the wheel or Page Up/Down: the new region, solved from the shape shown

@@ -13,7 +13,9 @@ fresh scene:
     Live started with such a radius is refused with the reason;
   4 Grab: the header and the status bar say the radius and its keys, the wheel and Page Down change it during the drag,
     the circle is drawn, the drag goes on (the dragged vertices follow the pointer, the
-    rest beyond the radius at rest); a refused Page Down keeps the radius; O turns it off.
+    rest beyond the radius at rest); a refused Page Down keeps the radius; O turns it off;
+  5 Grab with a Region group: the radius picks the region while on, the group once O
+    turns it off in the drag.
 Screenshots: $EDGEDEFORM_TEST_OUT/proportional_*.png.
 """
 
@@ -285,8 +287,56 @@ def s4_grab_keys_header_and_resize():
     assert running() is None and ob.mode == 'EDIT'
 
 
+def s5_grab_radius_then_region_group():
+    """A Region group and proportional on: the radius picks the region (vertices outside
+    the group move); O off in the drag: the group does (outside it, back at rest)."""
+    ob, handle = plane(), HANDLE[0]
+    s = ob.edge_deform
+    rest = positions(ob.data).astype(float)
+    w = width(ob)
+    x = rest[:, 0]
+    group = np.flatnonzero(x > x.max() - 0.3 * w)     # the handle's 30 %
+    from helpers import add_group
+    add_group(ob, "R", group)
+    s.roi_group = "R"
+    s.proportional = True
+    s.proportional_radius = 0.7 * w
+    select_only(ob.data, handle)
+    activate(ob)
+    event('MOUSEMOVE', at=center())
+    yield
+    tap('TAB')
+    yield from until(lambda: ob.mode == 'EDIT')
+    yield from press_button("bpy.ops.edge_deform.grab(")
+    yield from until(lambda: running() is not None)
+    event('MOUSEMOVE', at=center())
+    yield
+    yield
+    event('MOUSEMOVE', at=center(0, 60))
+
+    def settled_drag():
+        return (running() is not None and running().settle.at_rest
+                and running().settle.iterations > 0 and np.abs(running().delta).max() > 0)
+    yield from until(settled_drag, 30)
+    outside_group = np.setdiff1d(np.arange(len(rest)), group)
+    moved = np.abs(key_positions(ob).astype(float) - rest).max(axis=1)
+    assert moved[outside_group].max() > 1e-3 * w, "proportional on: the radius, not the group"
+    tap('O', at=center(0, 60))
+    yield from until(lambda: "Proportional: off" in running().header_text, 5)
+    event('MOUSEMOVE', at=center(0, 80))
+    yield
+    yield from until(settled_drag, 30)
+    shown = key_positions(ob).astype(float)
+    assert np.abs(shown[outside_group] - rest[outside_group]).max() < 1e-6 * w, \
+        "off: the Region group again, the rest at rest"
+    assert np.abs(shown[handle] - rest[handle]).max() > 0.01 * w
+    tap('RET', at=center(0, 80))
+    yield from until(lambda: running() is None and ob.mode == 'EDIT')
+
+
 SECTIONS = [s1_live_keys_and_circle, s2_live_resize_while_lifted,
-            s3_live_refuses_a_radius_that_frees_nothing, s4_grab_keys_header_and_resize]
+            s3_live_refuses_a_radius_that_frees_nothing, s4_grab_keys_header_and_resize,
+            s5_grab_radius_then_region_group]
 HANDLE = [None]
 
 
