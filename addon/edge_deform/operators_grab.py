@@ -256,8 +256,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         if toggled is not None:
             self.change_region(toggled, not getattr(s, toggled))
         elif factor is not None:
-            self.change_region("proportional_radius",
-                               max(proportional.SMALLEST, s.proportional_radius * factor))
+            self.change_region("proportional_radius", proportional.resized(s, factor))
         elif event.type == 'MOUSEMOVE':
             self.mouse = self.in_region(event)
             if self.state == Grab.WAITING:

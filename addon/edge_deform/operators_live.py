@@ -363,16 +363,15 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                     return {'RUNNING_MODAL'}
             if event.type in {'RET', 'NUMPAD_ENTER'} and not (event.ctrl or event.alt):
                 return self.finish(context)
+            s = self.ob.edge_deform
             toggled = proportional.toggle_key(event)
             if toggled is not None:
-                s = self.ob.edge_deform
                 self.change_region(context, toggled, not getattr(s, toggled))
                 return {'RUNNING_MODAL'}
             factor = proportional.size_key(event)
-            if factor is not None and self.ob.edge_deform.proportional:
-                s = self.ob.edge_deform
+            if factor is not None and s.proportional:   # (off: the wheel zooms)
                 self.change_region(context, "proportional_radius",
-                                   max(proportional.SMALLEST, s.proportional_radius * factor))
+                                   proportional.resized(s, factor))
                 return {'RUNNING_MODAL'}
         if event.value == 'PRESS' and event.type == 'Z' and (event.ctrl or event.oskey):
             self.say('WARNING', "Confirm or cancel Live Deform before undoing (Enter keeps, "

@@ -30,6 +30,11 @@ def size_key(event):
     return None
 
 
+def resized(settings, factor):
+    """The radius after one step of `factor` (never below Blender's smallest size)."""
+    return max(SMALLEST, settings.proportional_radius * factor)
+
+
 def toggle_key(event):
     """'proportional' for O, 'proportional_connected' for Alt+O (Blender's keys), or None."""
     if event.type != 'O' or event.value != 'PRESS' or event.ctrl or event.shift:
