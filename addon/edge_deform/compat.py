@@ -62,3 +62,4 @@ def icon(*names):
         if name in known:
             return name
     return 'NONE'
+

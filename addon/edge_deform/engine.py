@@ -32,8 +32,10 @@ class Inputs:
     handle_groups: List[HandleInput]
     handles: np.ndarray
     static: np.ndarray
-    roi: object                # (k,) int64, or None: the whole mesh
+    roi: object                # (k,) int64, or None: the whole mesh (or the radius's)
     stiffness: object          # float or (n,) float64
+    roi_radius: object = None  # float (mesh units): the region within it of the handles
+    roi_connected: bool = False   # ... measured along the edges
 
 
 def _members(weights):
@@ -50,7 +52,10 @@ def gather_inputs(ob, require_handles=True):
         if not h.vertex_group:
             raise EdgeDeformError("A handle has no vertex group")
         names.append(h.vertex_group)
-    for name in (s.static_group, s.roi_group, s.stiffness_group):
+    # Proportional on: the radius picks the region and the Region group is not read
+    # (docs/decisions/0056).
+    region_group = "" if s.proportional else s.roi_group
+    for name in (s.static_group, region_group, s.stiffness_group):
         if name:
             names.append(name)
     for name in names:
@@ -86,15 +91,23 @@ def gather_inputs(ob, require_handles=True):
             raise EdgeDeformError("%d vertices are both handle and static (e.g. vertex %d)"
                                   % (overlap.size, overlap[0]))
     roi = None
-    if s.roi_group:
-        roi = _members(weights[s.roi_group])
+    if region_group:
+        roi = _members(weights[region_group])
         if roi.size == 0:
-            raise EdgeDeformError("Region group '%s' is empty" % s.roi_group)
+            raise EdgeDeformError("Region group '%s' is empty" % region_group)
     if s.stiffness_group:
         stiffness = np.clip(weights[s.stiffness_group].astype(np.float64), 0.0, 1.0)
     else:
         stiffness = float(s.stiffness)
-    return Inputs(s.domain, groups, handles, static, roi, stiffness)
+    radius, connected = region_radius(s)
+    return Inputs(s.domain, groups, handles, static, roi, stiffness, radius, connected)
+
+
+def region_radius(settings):
+    """(roi_radius, roi_connected) for the core: (None, False) while proportional is off."""
+    if not settings.proportional:
+        return None, False
+    return float(settings.proportional_radius), bool(settings.proportional_connected)
 
 
 def with_global_changes(inputs, ob):
@@ -102,7 +115,7 @@ def with_global_changes(inputs, ob):
     s = ob.edge_deform
     lam = inputs.stiffness if s.stiffness_group else float(s.stiffness)
     return Inputs(s.domain, inputs.handle_groups, inputs.handles, inputs.static,
-                  inputs.roi, lam)
+                  inputs.roi, lam, inputs.roi_radius, inputs.roi_connected)
 
 
 def controller_rest(ob, controller):

@@ -20,7 +20,7 @@ cache solver_cache.py's, and a tool's exact cancel snapshot.py's.
 
 import time
 
-from . import (engine, handle_holds, mesh_arrays, native, output, settle, solver_cache,
+from . import (engine, handle_holds, mesh_arrays, output, settle, solver_cache,
                solve_method)
 from .output_checks import REST_ATTRIBUTE, check_output, owned_key, rest_shape, shape_hash
 
@@ -62,11 +62,15 @@ class ObjectSolver:
     def settings_changed(self):
         """Follow a change of the global λ or the domain (Live Deform's keys)."""
         self.inputs = engine.with_global_changes(self.inputs, self.ob)
-        self.binding.sync(native.get(), self.inputs, self.ob.name_full)
+        solver_cache.sync(self.binding, self.inputs, self.ob.name_full)
 
-    def hold_grab(self, handles, static, roi):
-        """Grab Deform's constraints; `release_grab` returns to the settings'."""
-        self.binding.hold_grab(handles, static, roi)
+    def hold_grab(self, handles, static, roi, roi_radius=None, roi_connected=False):
+        """Grab Deform's constraints; `release_grab` returns to the settings'. A radius
+        that frees nothing is refused in plain words, the previous constraints gone."""
+        try:
+            self.binding.hold_grab(handles, static, roi, roi_radius, roi_connected)
+        except ValueError as exc:
+            raise solver_cache.plain(exc, roi_radius, roi_connected) from None
 
     def release_grab(self):
         self.binding.release_grab()

@@ -21,7 +21,7 @@ from bpy_extras.view3d_utils import region_2d_to_location_3d
 from mathutils import Vector
 
 from . import (compat, engine, handle_holds, lifecycle, mesh_arrays, output, output_checks,
-               settle, shown_shape)
+               overlay, proportional, settle, shown_shape)
 from .modal_states import Grab, GrabEvent, grab_next
 from .modal_tool import ModalTool
 from .op_common import error_text, guarded, over_the_view, poll_mesh, tell
@@ -46,8 +46,9 @@ def view_region(context):
 
 
 class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
-    """Drag the selected vertices; the mesh deforms around them. X/Y/Z: axis,
-    Enter/click: confirm, Esc/right click: cancel"""
+    """Drag the selected vertices; the mesh deforms around them. X/Y/Z: axis, O:
+    proportional, Wheel/Page Up/Down: its radius, Enter/click: confirm, Esc/right click:
+    cancel"""
     bl_idname = "edge_deform.grab"
     bl_label = "Grab Deform"
     bl_options = {'REGISTER', 'UNDO'}
@@ -77,7 +78,9 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             solver = lifecycle.prepare(ob, inputs)
             current = shown_shape.addon_shape(ob)
             pinned = np.setdiff1d(inputs.handles, moving)
-            solver.hold_grab(np.concatenate([moving, pinned]), inputs.static, inputs.roi)
+            self.held = np.concatenate([moving, pinned])
+            self.group_region = None
+            self.hold(solver, ob)
         except Exception:
             if solver is not None:
                 solver.release_grab()   # the settings' constraints return on the next sync
@@ -104,9 +107,67 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.delta = np.zeros(3)
         self.settle = settle.Settle()
         self.stats = ""
+        self.refused = None         # why the last radius change was refused, for the header
         self.start_modal(context, ob)
+        self.circle = overlay.RadiusCircle(self.area, self.circle_where)
+        self.status_drawn = None    # the key hints Blender last drew in the status bar
+        compat.status_bar(self.workspace, self.draw_status)
         self.show()
         return {'RUNNING_MODAL'}
+
+    def draw_status(self, layout):
+        """The keys in the status bar, as Blender's G lists its own."""
+        s = self.ob.edge_deform
+        hints = ["Enter/Click: confirm", "Esc/Right click: cancel", "X/Y/Z: axis",
+                 "O: proportional %s" % ("off" if s.proportional else "on")]
+        if s.proportional:
+            hints += ["Wheel/PgUp/PgDn: radius", "Alt+O: connected only"]
+        for hint in hints:
+            layout.label(text=hint)
+        self.status_drawn = hints
+
+    def hold(self, solver, ob):
+        """The Deformer holds the dragged and the pinned vertices, with the settings'
+        static vertices and region: proportional on, the radius around all of them; off,
+        the Region group."""
+        radius, connected = engine.region_radius(ob.edge_deform)
+        roi = None if radius is not None else self.region_vertices(solver, ob)
+        solver.hold_grab(self.held, solver.inputs.static, roi, radius, connected)
+
+    def region_vertices(self, solver, ob):
+        """The Region group's vertices (None: the whole mesh). With proportional on at the
+        start the group was not read (record 0056): it is read when O turns it off."""
+        if solver.inputs.roi is not None or not ob.edge_deform.roi_group:
+            return solver.inputs.roi
+        if self.group_region is None:
+            self.group_region = engine.gather_inputs(ob, require_handles=False).roi
+        return self.group_region
+
+    def change_region(self, name, value):
+        """O, Alt+O, the wheel or Page Up/Down: the new region, solved from the shape shown
+        (the handles stay where the pointer put them); when it frees no vertex, the
+        previous one is kept and the header says why."""
+        s = self.ob.edge_deform
+        before = getattr(s, name)
+        setattr(s, name, value)
+        self.refused = None
+        try:
+            self.hold(self.solver, self.ob)
+        except engine.EdgeDeformError as exc:
+            setattr(s, name, before)
+            self.hold(self.solver, self.ob)
+            self.refused = "%s; kept %s" % (exc, proportional.describe(s))
+            tell(self, 'WARNING', self.refused)
+        if self.written is not None:
+            self.current = self.written   # the next solve starts from the shape shown
+        self.first = True
+        if self.state != Grab.WAITING:
+            self.go(GrabEvent.MOVED)
+        self.show()
+
+    def circle_where(self):
+        """Around the dragged vertices where the pointer has put them."""
+        return proportional.circle(self.ob, self.start + self.delta)
 
     @property
     def settle_iterations(self):
@@ -160,15 +221,20 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
 
     def show(self):
         """Blender's G way: the tool's state in the header while it runs."""
+        s = self.ob.edge_deform
+        region = proportional.describe(s) + (" (%s)" % proportional.SHORT_KEYS
+                                             if s.proportional else "")
+        if self.refused:
+            region = self.refused
         if self.state == Grab.WAITING:
             self.header("Grab Deform: %d vertices | move the pointer into the view to drag "
-                        "| Esc/Right click: cancel" % self.n_moving)
+                        "| %s | Esc/Right click: cancel" % (self.n_moving, region))
             return
         axis = "along %s" % "XYZ"[self.axis] if self.axis is not None else "free"
-        self.header("Grab Deform: %d vertices | D: %.4g %s | X/Y/Z: axis | Enter/Click: "
-                    "confirm | Esc/Right click: cancel | %s"
+        self.header("Grab Deform: %d vertices | D: %.4g %s | %s | X/Y/Z: axis | "
+                    "Enter/Click: confirm | Esc/Right click: cancel | %s"
                     % (self.n_moving, float(np.linalg.norm(self.mw[:3, :3] @ self.delta)),
-                       axis, self.stats))
+                       axis, region, self.stats))
 
     def modal(self, context, event):
         try:
@@ -184,7 +250,14 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             return self.end(context, {'CANCELLED'}, restore=True)
 
     def handle(self, context, event):
-        if event.type == 'MOUSEMOVE':
+        s = self.ob.edge_deform
+        toggled = proportional.toggle_key(event)
+        factor = proportional.size_key(event) if s.proportional else None
+        if toggled is not None:
+            self.change_region(toggled, not getattr(s, toggled))
+        elif factor is not None:
+            self.change_region("proportional_radius", proportional.resized(s, factor))
+        elif event.type == 'MOUSEMOVE':
             self.mouse = self.in_region(event)
             if self.state == Grab.WAITING:
                 if over_the_view(self.area, event):
@@ -213,6 +286,8 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         return {'RUNNING_MODAL'}
 
     def end(self, context, result, restore=False):
+        self.circle.remove()
+        compat.status_bar(self.workspace, None)
         self.end_modal(context)
         self.solver.release_grab()   # the settings' handles return on the next sync
         if restore:

@@ -30,8 +30,8 @@ previous domain and its graph, the mesh untouched (nothing is written until it i
 
 import bpy
 
-from . import (engine, lifecycle, live_selection, overlay, preferences, settle, shown_shape,
-               solver_cache)
+from . import (engine, lifecycle, live_selection, overlay, preferences, proportional, settle,
+               shown_shape, solver_cache)
 from .modal_states import Live, LiveEvent, live_next
 from .modal_tool import ModalTool
 from .op_common import deformed_object, error_text, guarded, over_the_view, poll_mesh, tell
@@ -43,10 +43,11 @@ LAMBDA_STEP = 0.05
 # setting that shapes the result (the handles' groups and controllers too); where the
 # result goes (Output, the key's name) stays as the artist typed it.
 SHAPE_GROUPS = ("static_group", "roi_group", "stiffness_group")
+REGION_SETTINGS = ("proportional", "proportional_radius", "proportional_connected")
 OUTPUT_SETTINGS = ("output", "shape_key_name")
-REBIND_SETTINGS = SHAPE_GROUPS + OUTPUT_SETTINGS
-RESTORED_SETTINGS = SHAPE_GROUPS + ("stiffness", "domain", "iterations", "tolerance",
-                                    "acceleration")
+REBIND_SETTINGS = SHAPE_GROUPS + REGION_SETTINGS + OUTPUT_SETTINGS
+RESTORED_SETTINGS = SHAPE_GROUPS + REGION_SETTINGS + (
+    "stiffness", "domain", "iterations", "tolerance", "acceleration")
 WATCHED_SETTINGS = RESTORED_SETTINGS + OUTPUT_SETTINGS
 def handle_settings(s):
     return tuple((h.vertex_group, h.controller) for h in s.handles)
@@ -54,7 +55,8 @@ def handle_settings(s):
 
 class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
     """Deform the mesh while you move its controllers (select and move them as usual).
-    Alt+[ ]: stiffness, Enter over the view: keep, Esc: cancel"""
+    Alt+[ ]: stiffness, O: proportional, Wheel/Page Up/Down: its radius, Enter over the
+    view: keep, Esc: cancel"""
     bl_idname = "edge_deform.live"
     bl_label = "Live Deform"
     bl_options = {'REGISTER', 'UNDO'}
@@ -90,6 +92,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.keys_up, self.keys_down, self.keys_label = preferences.stiffness_keys(context)
         self.start_modal(context, ob)
         self.text = overlay.ViewportText(self.area)
+        self.circle = overlay.RadiusCircle(self.area, self.circle_where)
         self.hold_undo_steps(context)
         self.surroundings.select_controller(self.active_controller())
         self.hint = live_selection.what_g_moves(context.view_layer, ob)
@@ -297,9 +300,9 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
     def end_modal(self, context):
         if self.state == Live.SWITCHING:   # (any way out: the progress and cursor end too)
             self.switch.stop()
-        text = getattr(self, "text", None)
-        if text is not None:
-            text.remove()
+        for drawing in (getattr(self, "text", None), getattr(self, "circle", None)):
+            if drawing is not None:
+                drawing.remove()
         super().end_modal(context)
 
     # ------------------------------------------------------------ what the artist sees
@@ -315,7 +318,8 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         stiffness = ("stiffness: painted group" if s.stiffness_group
                      else "%s stiffness" % self.keys_label)
         self.text.set([self.status_text,
-                       "Enter keep · Esc cancel · %s · %s" % (stiffness, self.hint)])
+                       "Enter keep · Esc cancel · %s · %s" % (stiffness, self.hint),
+                       "%s · %s" % (proportional.describe(s), proportional.KEYS)])
 
     def end_report(self):
         """What Enter kept, in one sentence."""
@@ -359,6 +363,16 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                     return {'RUNNING_MODAL'}
             if event.type in {'RET', 'NUMPAD_ENTER'} and not (event.ctrl or event.alt):
                 return self.finish(context)
+            s = self.ob.edge_deform
+            toggled = proportional.toggle_key(event)
+            if toggled is not None:
+                self.change_region(context, toggled, not getattr(s, toggled))
+                return {'RUNNING_MODAL'}
+            factor = proportional.size_key(event)
+            if factor is not None and s.proportional:   # (off: the wheel zooms)
+                self.change_region(context, "proportional_radius",
+                                   proportional.resized(s, factor))
+                return {'RUNNING_MODAL'}
         if event.value == 'PRESS' and event.type == 'Z' and (event.ctrl or event.oskey):
             self.say('WARNING', "Confirm or cancel Live Deform before undoing (Enter keeps, "
                                 "Esc cancels)")
@@ -380,6 +394,28 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         step = LAMBDA_STEP if up else -LAMBDA_STEP
         s.stiffness = min(1.0, max(0.0, round(s.stiffness + step, 4)))
         self.update(context)
+
+    def change_region(self, context, name, value):
+        """O, Alt+O, the wheel or Page Up/Down: the region now, or, when the new one frees
+        no vertex, the previous one kept and the reason said (nothing else changes)."""
+        s = self.ob.edge_deform
+        before = getattr(s, name)
+        setattr(s, name, value)
+        if self.state not in (Live.SOLVING, Live.AT_REST, Live.HOLDING):
+            return          # (a pause, refusal or switch reads it when it ends)
+        try:
+            self.rebind()
+        except engine.EdgeDeformError as exc:
+            setattr(s, name, before)
+            self.rebind()
+            self.say('WARNING', "%s; kept %s" % (exc, proportional.describe(s)))
+        self.update(context)
+
+    def circle_where(self):
+        """Where the radius circle goes: around the handles where they are now."""
+        if self.solver is None:
+            return None
+        return proportional.circle(self.ob, self.solver.targets())
 
     def finish(self, context):
         while self.state == Live.SWITCHING:   # Enter during a domain switch: complete it

@@ -1,13 +1,16 @@
-"""Text drawn over one 3D viewport while a tool runs (Live Deform's status and keys), at
-the top left of the view under Blender's own text (the view's and the object's name),
-clear of the redo panel at the bottom left. The header and the
-status bar stay Blender's: a G/R/S inside Live shows its typed value, axis and key hints
-there, and reports (a refused key) show in the status bar as always."""
+"""What the tools draw over one 3D viewport while they run: Live Deform's status and keys
+as text, at the top left of the view under Blender's own text (the view's and the object's
+name), clear of the redo panel at the bottom left; and the proportional radius as a
+circle around the handles, as Blender's transform draws its proportional size. The header
+and the status bar stay Blender's: a G/R/S inside Live shows its typed value, axis and key
+hints there, and reports (a refused key) show in the status bar as always."""
 
+import math
 import time
 
 import blf
 import bpy
+from bpy_extras.view3d_utils import location_3d_to_region_2d
 
 NOTE_SECONDS = 5.0   # how long a note (a refused key) stays on screen
 
@@ -99,3 +102,69 @@ class ViewportText:
             blf.draw(font, text)
         blf.disable(font, blf.SHADOW)
         self.drawn = lines
+
+
+CIRCLE_SEGMENTS = 64
+CIRCLE_COLOR = (1.0, 1.0, 1.0, 0.8)   # Blender's proportional circle is a light line too
+
+
+class RadiusCircle:
+    """A screen-space circle over `area`'s view until remove(): around the world point
+    `where()` gives, of the world radius projected there (the view's right-hand direction
+    scaled by the radius). `where()` returns (centre, radius) in world space, or None to
+    draw nothing (proportional off). `drawn` holds (x, y, radius) in region pixels of the
+    last draw, or None (what the window tests read back)."""
+
+    def __init__(self, area, where):
+        self.area = area
+        self.where = where
+        self.drawn = None
+        self.handle = bpy.types.SpaceView3D.draw_handler_add(
+            self.draw, (), 'WINDOW', 'POST_PIXEL')
+
+    def remove(self):
+        if self.handle is not None:
+            bpy.types.SpaceView3D.draw_handler_remove(self.handle, 'WINDOW')
+            self.handle = None
+        try:
+            if self.area is not None:
+                self.area.tag_redraw()
+        except ReferenceError:
+            self.area = None
+
+    def draw(self):
+        # (Imported here: the add-on also registers in background Blender, where drawing
+        # is never called and gpu need not load.)
+        import gpu
+        from gpu_extras.batch import batch_for_shader
+        context = bpy.context
+        try:
+            if context.area != self.area or context.region_data is None:
+                return
+            placed = self.where()
+        except ReferenceError:
+            return
+        if placed is None:
+            self.drawn = None
+            return
+        centre, radius = placed
+        region, rv3d = context.region, context.region_data
+        right = rv3d.view_rotation @ centre.__class__((1.0, 0.0, 0.0))
+        c = location_3d_to_region_2d(region, rv3d, centre)
+        e = location_3d_to_region_2d(region, rv3d, centre + right * radius)
+        if c is None or e is None:       # behind the viewer
+            self.drawn = None
+            return
+        r = (e - c).length
+        points = [(c.x + r * math.cos(t), c.y + r * math.sin(t))
+                  for t in (2.0 * math.pi * i / CIRCLE_SEGMENTS
+                            for i in range(CIRCLE_SEGMENTS + 1))]
+        # (The one name from 3.4, checked there, to 5.x; the "2D_" names went in 4.0.)
+        shader = gpu.shader.from_builtin('UNIFORM_COLOR')
+        batch = batch_for_shader(shader, 'LINE_STRIP', {"pos": points})
+        gpu.state.blend_set('ALPHA')
+        shader.bind()
+        shader.uniform_float("color", CIRCLE_COLOR)
+        batch.draw(shader)
+        gpu.state.blend_set('NONE')
+        self.drawn = (c.x, c.y, r)

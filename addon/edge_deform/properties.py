@@ -64,6 +64,20 @@ class EdgeDeformSettings(bpy.types.PropertyGroup):
         name="Static", description="Vertex group that never moves (empty: none)")
     roi_group: StringProperty(
         name="Region", description="Only these vertices may move (empty: whole mesh)")
+    proportional: BoolProperty(
+        name="Proportional", default=False,
+        description="Only the vertices within the radius of the handles may move, as in "
+                    "Blender's proportional editing; the rest stays at rest. Overrides the "
+                    "Region group while on (O toggles it in Live and Grab Deform)")
+    proportional_radius: FloatProperty(
+        name="Radius", default=1.0, min=1e-6, soft_max=100.0, subtype='DISTANCE',
+        unit='LENGTH', precision=3,
+        description="How far from the handles vertices may move, in the mesh's units "
+                    "(Wheel or Page Up/Page Down change it in Live and Grab Deform)")
+    proportional_connected: BoolProperty(
+        name="Connected Only", default=False,
+        description="Measure the radius along the mesh's edges, so parts that are near "
+                    "but not connected stay at rest (Alt+O in Live and Grab Deform)")
     stiffness_group: StringProperty(
         name="Stiffness Group",
         description="Paintable stiffness: each vertex's weight is its λ (red 1 rigid, blue "

@@ -28,6 +28,14 @@ def _digest(*arrays):
     return h.hexdigest()
 
 
+def _region(roi, roi_radius, roi_connected):
+    """set_constraints' region arguments: a list of vertices or a radius (the core refuses
+    both at once)."""
+    if roi_radius is None:
+        return {"roi": roi}
+    return {"roi_radius": roi_radius, "roi_connected": roi_connected}
+
+
 class Constraints(enum.Enum):
     """Whose handles the Deformer holds."""
     NONE = "none"            # none yet, or released: the next sync sets the settings'
@@ -117,12 +125,14 @@ class Binding:
         if self._deformer is None or self._domain != inputs.domain:
             self.build(ed, inputs.domain)
         t0, factored = time.perf_counter(), False
-        ckey = _digest(inputs.handles, inputs.static, inputs.roi)
+        ckey = (_digest(inputs.handles, inputs.static, inputs.roi), inputs.roi_radius,
+                inputs.roi_connected)
         if self._constraints != Constraints.SETTINGS or ckey != self._constraint_key:
             factored = True
             self._constraints, self._constraint_key = Constraints.NONE, None
             self._deformer.set_constraints(handles=inputs.handles, static=inputs.static,
-                                           roi=inputs.roi)
+                                           **_region(inputs.roi, inputs.roi_radius,
+                                                     inputs.roi_connected))
             self._constraints, self._constraint_key = Constraints.SETTINGS, ckey
             self._cold_start_due = True
         lam = inputs.stiffness
@@ -136,10 +146,11 @@ class Binding:
             self._bind_ms += (time.perf_counter() - t0) * 1e3
         self._inputs, self._inputs_owner = inputs, owner
 
-    def hold_grab(self, handles, static, roi):
+    def hold_grab(self, handles, static, roi, roi_radius=None, roi_connected=False):
         """Grab Deform's constraints (its selection), until release_grab."""
         self._constraints, self._constraint_key = Constraints.NONE, None
-        self._deformer.set_constraints(handles=handles, static=static, roi=roi)
+        self._deformer.set_constraints(handles=handles, static=static,
+                                       **_region(roi, roi_radius, roi_connected))
         self._constraints = Constraints.GRAB
         self._cold_start_due = True
 

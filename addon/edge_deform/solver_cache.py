@@ -8,7 +8,7 @@ The stages are generators yielding (fraction, status text) before each long step
 Binding enters the cache only after its last step, so closing one early changes nothing.
 """
 
-from . import engine, mesh_arrays, native, session
+from . import engine, mesh_arrays, native, proportional, session
 
 Refused = engine.EdgeDeformError
 
@@ -30,7 +30,23 @@ def _graph_steps(binding, inputs, what, fractions, owner):
     binding.build(native.get(), inputs.domain)
     yield fractions[1], "%s: factoring %s graph nodes…" % (
         what, _count(binding.deformer.n_nodes))
-    binding.sync(native.get(), inputs, owner)   # (Binding.bind_ms: the compute time)
+    sync(binding, inputs, owner)   # (Binding.bind_ms: the compute time)
+
+
+def sync(binding, inputs, owner):
+    """binding.sync, with the core's refusal of a radius that frees nothing in plain
+    words."""
+    try:
+        binding.sync(native.get(), inputs, owner)
+    except ValueError as exc:
+        raise plain(exc, inputs.roi_radius, inputs.roi_connected) from None
+
+
+def plain(exc, radius, connected):
+    """The error to report for the core's ValueError `exc`."""
+    if radius is not None and proportional.NO_FREE_VERTEX in str(exc):
+        return Refused(proportional.refusal(radius, connected))
+    return exc
 
 
 def new_binding_steps(mesh, inputs, X, digest, what, fractions, owner):
@@ -52,17 +68,20 @@ def binding_steps(mesh, inputs, X, digest, what, fractions, owner):
     binding = session.get(mesh.as_pointer())
     if (binding is not None and binding.digest == digest
             and binding.rest_key == session.rest_key(X) and binding.domain == inputs.domain):
-        binding.sync(native.get(), inputs, owner)
+        sync(binding, inputs, owner)
         return binding
     return (yield from new_binding_steps(mesh, inputs, X, digest, what, fractions, owner))
 
 
 def cached_inputs(ob):
-    """The inputs of this object's last sync (playback: groups cannot change), or None."""
+    """The inputs of this object's last sync (playback: groups cannot change), or None
+    (also when the proportional settings changed since)."""
     binding = session.get(ob.data.as_pointer())
     inputs = None if binding is None else binding.inputs_of(ob.name_full)
     if inputs is None or binding.counts != mesh_arrays.topology_counts(ob.data):
         return None
+    if engine.region_radius(ob.edge_deform) != (inputs.roi_radius, inputs.roi_connected):
+        return None     # the radius changed: read again (off: the Region group is read)
     return engine.with_global_changes(inputs, ob)
 
 

@@ -165,10 +165,18 @@ class EDGE_DEFORM_PT_groups(_SubPanel, bpy.types.Panel):
                                  ("roi_group", "edge_deform.set_roi", "Region")):
             # The button beside the label: the group's name gets the whole row. (An
             # empty Region is the whole mesh; "Region (optional)" was cut at 170 px.)
-            row = layout.row()
+            col = layout.column()
+            # Proportional picks the region while on: the Region group is not read.
+            col.active = field != "roi_group" or not s.proportional
+            row = col.row()
             row.label(text=label)
             row.operator(op, text="", icon='ADD')
-            layout.prop_search(s, field, ob, "vertex_groups", text="")
+            col.prop_search(s, field, ob, "vertex_groups", text="")
+        layout.prop(s, "proportional")
+        col = layout.column()
+        col.active = s.proportional
+        col.prop(s, "proportional_radius")
+        col.prop(s, "proportional_connected")
 
 
 class EDGE_DEFORM_PT_stiffness(_SubPanel, bpy.types.Panel):

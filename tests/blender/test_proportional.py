@@ -1,0 +1,178 @@
+"""Background tests of proportional editing's settings (record 0056): the radius reaches
+the core's set_constraints (the result equals the Python API's with roi_radius), it
+overrides the Region group, Connected Only measures along the mesh, and a radius that
+frees no vertex (too small, or Static covering the region) is refused in plain words with
+nothing changed."""
+
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from helpers import (add_group, add_handle, bpy, ed, key_positions, load,  # noqa: E402
+                     make_object, np, positions, refused, run, session)
+from mathutils import Matrix, Vector  # noqa: E402
+
+
+def plane(name="plane"):
+    """cgal_plane.off with a handle at one end; proportional on, radius 0.3 of its width."""
+    V, F = load("cgal_plane.off")
+    ob = make_object(name, V, F)
+    x = V[:, 0]
+    width = float(np.ptp(x))
+    handle = np.flatnonzero(x > x.max() - 0.05 * width)
+    add_group(ob, "H", handle)
+    s = ob.edge_deform
+    s.iterations = 40
+    s.stiffness = 0.5
+    ctrl = add_handle(ob, "H", V[handle].mean(axis=0))
+    s.proportional = True
+    s.proportional_radius = 0.3 * width
+    return ob, V.astype(np.float64), np.asarray(F), handle, ctrl, width
+
+
+def lift(ctrl, dz):
+    ctrl.matrix_world = Matrix.Translation(ctrl.matrix_world.translation + Vector((0, 0, dz)))
+    bpy.context.view_layer.update()
+
+
+def api(V, F, handle, targets, **region):
+    d = ed.Deformer(V, F, domain="edge")
+    d.set_constraints(handles=handle, static=np.zeros(0, np.int64), **region)
+    d.set_stiffness(0.5)
+    return d.solve(targets, max_iterations=40, tolerance=1e-3, warm_start=False,
+                   verify_claims=True).positions
+
+
+def within(V, handle, r):
+    d = np.linalg.norm(V[:, None, :] - V[None, handle, :], axis=2).min(axis=1)
+    return d <= r
+
+
+def test_defaults():
+    ob, *_ = plane()
+    s = bpy.data.objects.new("fresh", None).edge_deform
+    assert s.proportional is False and s.proportional_connected is False
+    assert s.proportional_radius == 1.0, s.proportional_radius
+
+
+def test_radius_reaches_the_core():
+    ob, V, F, handle, ctrl, width = plane()
+    r = ob.edge_deform.proportional_radius
+    assert bpy.ops.edge_deform.bind() == {'FINISHED'}
+    lift(ctrl, 0.2 * width)
+    assert bpy.ops.edge_deform.solve() == {'FINISHED'}
+    out = key_positions(ob).astype(np.float64)
+    inside = within(V, handle, r)
+    assert 0 < inside.sum() < len(V), "the radius frees some vertices, not all"
+    assert np.array_equal(out[~inside], positions(ob.data)[~inside]), "outside at rest"
+    assert np.abs(out[inside] - V[inside]).max() > 0.01 * width, "inside moves"
+    T = V[handle] + np.array([0, 0, 0.2 * width])
+    expect = api(V, F, handle, T, roi_radius=r)
+    assert np.abs(out - expect).max() < 1e-5, np.abs(out - expect).max()
+
+    # Only the radius changes: the same graph (no rebuild), a new region, a new result.
+    deformer = session.get(ob.data.as_pointer()).deformer
+    ob.edge_deform.proportional_radius = 0.6 * width
+    assert bpy.ops.edge_deform.solve() == {'FINISHED'}
+    assert session.get(ob.data.as_pointer()).deformer is deformer, "graph kept"
+    out2 = key_positions(ob).astype(np.float64)
+    wider = within(V, handle, 0.6 * width)
+    assert wider.sum() > inside.sum()
+    assert np.abs(out2 - api(V, F, handle, T, roi_radius=0.6 * width)).max() < 1e-5
+
+    # Off: the whole mesh moves again.
+    ob.edge_deform.proportional = False
+    assert bpy.ops.edge_deform.solve() == {'FINISHED'}
+    out3 = key_positions(ob).astype(np.float64)
+    assert np.abs(out3[~wider] - V[~wider]).max() > 1e-4, "off: outside moves too"
+
+
+def test_radius_overrides_the_region_group():
+    ob, V, F, handle, ctrl, width = plane()
+    x = V[:, 0]
+    add_group(ob, "R", np.flatnonzero(x > x.max() - 0.1 * width))   # narrower than r
+    ob.edge_deform.roi_group = "R"
+    lift(ctrl, 0.2 * width)
+    assert bpy.ops.edge_deform.solve() == {'FINISHED'}
+    out = key_positions(ob).astype(np.float64)
+    T = V[handle] + np.array([0, 0, 0.2 * width])
+    r = ob.edge_deform.proportional_radius
+    assert np.abs(out - api(V, F, handle, T, roi_radius=r)).max() < 1e-5, "radius wins"
+    ob.edge_deform.proportional = False
+    assert bpy.ops.edge_deform.solve() == {'FINISHED'}
+    out = key_positions(ob).astype(np.float64)
+    group = np.flatnonzero(x > x.max() - 0.1 * width)
+    assert np.abs(out - api(V, F, handle, T, roi=group)).max() < 1e-5, "off: the group"
+
+
+def test_connected_only():
+    """Along the edges a path is longer than the straight line (the triangles' zig-zag),
+    so Connected Only frees fewer vertices of the same plane."""
+    ob, V, F, handle, ctrl, width = plane()
+    r = ob.edge_deform.proportional_radius
+    lift(ctrl, 0.2 * width)
+    assert bpy.ops.edge_deform.solve() == {'FINISHED'}
+    straight = key_positions(ob).astype(np.float64)
+    ob.edge_deform.proportional_connected = True
+    assert bpy.ops.edge_deform.solve() == {'FINISHED'}
+    connected = key_positions(ob).astype(np.float64)
+    T = V[handle] + np.array([0, 0, 0.2 * width])
+    expect = api(V, F, handle, T, roi_radius=r, roi_connected=True)
+    assert np.abs(connected - expect).max() < 1e-5, np.abs(connected - expect).max()
+    rest = positions(ob.data).astype(np.float64)
+    still_s = np.all(straight == rest, axis=1)
+    still_c = np.all(connected == rest, axis=1)
+    assert still_c.sum() > still_s.sum() and not np.any(still_s & ~still_c), \
+        "connected only holds more vertices at rest, a superset"
+
+
+def test_radius_that_frees_nothing_is_refused():
+    ob, V, F, handle, ctrl, width = plane()
+    assert bpy.ops.edge_deform.solve() == {'FINISHED'}
+    ob.edge_deform.proportional_radius = 1e-5 * width
+    lift(ctrl, 0.1 * width)
+    msg = refused(bpy.ops.edge_deform.solve, "No vertex can move within", ob)
+    assert "Traceback" not in msg and "roi_radius" not in msg, msg
+    assert "make the radius larger" in msg, msg
+
+
+def test_static_covering_the_region_is_refused():
+    ob, V, F, handle, ctrl, width = plane()
+    r = ob.edge_deform.proportional_radius
+    near = np.setdiff1d(np.flatnonzero(within(V, handle, r)), handle)
+    add_group(ob, "S", near)
+    ob.edge_deform.static_group = "S"
+    lift(ctrl, 0.1 * width)
+    msg = refused(bpy.ops.edge_deform.solve, "Static holds them", ob)
+    assert "make the radius larger" in msg, msg
+
+
+def test_frame_change_and_playback_read_the_radius():
+    """Deform on Frame Change solves within the radius; the inputs playback reuses are
+    dropped when the radius changes (then read again)."""
+    from edge_deform import solver_cache
+    ob, V, F, handle, ctrl, width = plane()
+    s = ob.edge_deform
+    s.animate = True
+    ctrl.keyframe_insert("location", frame=1)
+    ctrl.location.z += 0.2 * width
+    ctrl.keyframe_insert("location", frame=2)
+    bpy.context.scene.frame_set(2)
+    out = key_positions(ob).astype(np.float64)
+    outside = ~within(V, handle, s.proportional_radius)
+    assert np.array_equal(out[outside], positions(ob.data)[outside]), "outside at rest"
+    assert np.abs(out[handle, 2] - V[handle, 2] - 0.2 * width).max() < 1e-4
+    assert solver_cache.cached_inputs(ob) is not None, "playback may reuse these"
+    s.proportional_radius = 0.5 * width
+    assert solver_cache.cached_inputs(ob) is None, "a new radius: read again"
+    s.proportional_radius = 0.3 * width
+    s.proportional = False
+    assert solver_cache.cached_inputs(ob) is None, "off: read again (the Region group)"
+    s.animate = False
+
+
+if __name__ == "__main__":
+    run([test_defaults, test_radius_reaches_the_core, test_radius_overrides_the_region_group,
+         test_connected_only, test_radius_that_frees_nothing_is_refused,
+         test_static_covering_the_region_is_refused,
+         test_frame_change_and_playback_read_the_radius])
