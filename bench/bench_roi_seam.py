@@ -4,22 +4,30 @@
 A region of interest (set_constraints(roi_radius=r)) keeps everything outside it at rest, so
 at the region's border the deformed part meets the still part, and a kink can show there. For
 each cell (mesh, λ, radius as a fraction of the bounding-box diagonal) the lift edit is
-solved twice from a fresh Deformer to 1e-5 of the diagonal: on the whole mesh, and on the
-region within r of the handle (Euclidean). Reported, over the border edges (one end free, the
-other outside the region, neither a handle nor static):
+solved from a fresh Deformer to 1e-5 of the diagonal: on the whole mesh, and on the region
+within r of the handle (Euclidean), once per falloff band. A band b (a fraction of r; 0 =
+none) blends λ towards smooth near the border: λ · smoothstep(clamp((r − d) / (b r), 0, 1)),
+d the vertex's distance from the nearest handle (computed here in numpy; the core has no
+band: docs/decisions/0057-falloff-band-at-the-region-border.md). Reported:
 
-- bend at the border: the largest change of the dihedral angle (degrees) from the rest shape,
-  in the region's solve and in the whole mesh's solve at the same edges;
-- the region's largest vertex distance from the whole mesh's solve, over the diagonal;
+- bend at the border: over the border edges (one end free, the other outside the region,
+  neither a handle nor static), the largest change of the dihedral angle (degrees) from the
+  rest shape, in the region's solve and in the whole mesh's solve at the same edges;
+- the same over the outer half of the region (edges whose ends are free and at d >= r / 2,
+  the same edges for every band): where a band lies, and where a kink it only moved
+  inwards would show;
+- the region's largest vertex distance from the whole mesh's solve, over the diagonal (all
+  vertices, and the free ones only);
 - the free vertices of each solve.
 
 A bend the whole mesh does not show is the kink the region adds.
 
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_roi_seam.py \\
-        [--cells dino:1,dino:0.5,spot11k:1,koala:1] [--radii 0.35,0.5] [--out bench/results/roi_seam.json]
+        [--cells dino:1,dino:0.5,spot11k:1,koala:1] [--radii 0.35,0.5] [--bands 0,0.25,0.5,1] \\
+        [--out bench/results/roi_seam.json]
 
-Prints a table and writes the JSON (the machine, its load, one row per cell and radius);
-bench/report.py puts the table into docs/benchmarks.md.
+Prints a table and writes the JSON (the machine, its load, one row per cell, radius and
+band); bench/report.py puts the table into docs/benchmarks.md.
 """
 
 import argparse
@@ -61,6 +69,19 @@ def dihedral_degrees(X, F, edge_faces):
     return np.degrees(np.arccos(cos))
 
 
+def smoothstep(t):
+    return t * t * (3.0 - 2.0 * t)
+
+
+def band_lambda(V, handles, lam, radius, band):
+    """λ blended towards smooth over the outer `band` (a fraction of the radius) of the region:
+    λ · smoothstep(clamp((r − d) / (b r), 0, 1)), d the straight-line distance to the nearest
+    handle (returned too). A band wider than 1 lowers λ already at the handles."""
+    from scipy.spatial import cKDTree
+    d, _ = cKDTree(V[np.asarray(handles)]).query(V)
+    return lam * smoothstep(np.clip((radius - d) / (band * radius), 0.0, 1.0)), d
+
+
 def solve(ed, V, F, handles, static, lam, targets, **region):
     d = ed.Deformer(V, F, domain="edge")
     d.set_constraints(handles, static, **region)
@@ -70,7 +91,7 @@ def solve(ed, V, F, handles, static, lam, targets, **region):
     return r, time.perf_counter() - start, np.asarray(d.free_vertices)
 
 
-def run_cell(ed, cell, radii, log):
+def run_cell(ed, cell, radii, bands, log):
     from edgedeform.mesh_files import read_mesh
     name, lam = cell.split(":")
     lam = float(lam)
@@ -83,37 +104,53 @@ def run_cell(ed, cell, radii, log):
     whole_bend = np.abs(dihedral_degrees(whole.positions, F, edge_faces) - rest_angle)
     rows = []
     for fraction in radii:
-        r, wall, free = solve(ed, V, F, handles, static, lam, targets, roi_radius=fraction * dg)
-        inside = np.zeros(len(V), bool)
-        inside[free] = True
-        outside = np.ones(len(V), bool)
-        outside[free] = False
-        outside[np.asarray(handles)] = False
-        outside[np.asarray(static)] = False
-        border = (inside[edges[:, 0]] & outside[edges[:, 1]]) | (inside[edges[:, 1]] & outside[edges[:, 0]])
-        bend = np.abs(dihedral_degrees(r.positions, F, edge_faces) - rest_angle)
-        row = {"mesh": name, "lambda": lam, "radius": fraction, "vertices": len(V), "free_region": int(len(free)),
-               "free_whole": int(len(whole_free)), "border_edges": int(border.sum()),
-               "border_bend_region_deg": float(bend[border].max()) if border.any() else 0.0,
-               "border_bend_whole_deg": float(whole_bend[border].max()) if border.any() else 0.0,
-               "largest_bend_whole_deg": float(whole_bend.max()),
-               "distance_to_whole": float(np.linalg.norm(r.positions - whole.positions, axis=1).max() / dg),
-               "converged_region": bool(r.converged), "converged_whole": bool(whole.converged),
-               "wall_region_s": wall, "wall_whole_s": whole_s}
-        rows.append(row)
-        log(row)
+        radius = fraction * dg
+        for band in bands:
+            stiffness, distance = band_lambda(V, handles, lam, radius, band) if band > 0 else (lam, None)
+            r, wall, free = solve(ed, V, F, handles, static, stiffness, targets, roi_radius=radius)
+            inside = np.zeros(len(V), bool)
+            inside[free] = True
+            outside = np.ones(len(V), bool)
+            outside[free] = False
+            outside[np.asarray(handles)] = False
+            outside[np.asarray(static)] = False
+            border = (inside[edges[:, 0]] & outside[edges[:, 1]]) | (inside[edges[:, 1]] & outside[edges[:, 0]])
+            if distance is None:
+                distance = band_lambda(V, handles, lam, radius, 1.0)[1]
+            # The outer half of the region, the same edges for every band: where a band's blend
+            # lies, and where a kink the band only moved inwards would show.
+            outer = inside & (distance >= 0.5 * radius)
+            near = outer[edges[:, 0]] & outer[edges[:, 1]]
+            bend = np.abs(dihedral_degrees(r.positions, F, edge_faces) - rest_angle)
+            gap = np.linalg.norm(r.positions - whole.positions, axis=1)
+            row = {"mesh": name, "lambda": lam, "radius": fraction, "band": band, "vertices": len(V),
+                   "free_region": int(len(free)), "free_whole": int(len(whole_free)),
+                   "border_edges": int(border.sum()),
+                   "border_bend_region_deg": float(bend[border].max()) if border.any() else 0.0,
+                   "border_bend_whole_deg": float(whole_bend[border].max()) if border.any() else 0.0,
+                   "outer_bend_region_deg": float(bend[near].max()) if near.any() else 0.0,
+                   "outer_bend_whole_deg": float(whole_bend[near].max()) if near.any() else 0.0,
+                   "largest_bend_whole_deg": float(whole_bend.max()),
+                   "distance_to_whole": float(gap.max() / dg),
+                   "distance_to_whole_in_region": float(gap[free].max() / dg),
+                   "converged_region": bool(r.converged), "converged_whole": bool(whole.converged),
+                   "iterations_region": int(r.iterations), "wall_region_s": wall, "wall_whole_s": whole_s}
+            rows.append(row)
+            log(row)
     return rows
 
 
 def markdown(result):
-    lines = ["| cell | radius / diag | free: region / whole | border edges | bend at the border, region ° | "
-             "same edges, whole mesh ° | largest bend, whole mesh ° | region − whole / diag | converged |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| cell | radius / diag | band / radius | free: region / whole | border edges | "
+             "bend at the border, region ° | same edges, whole mesh ° | outer half of the region: region ° / whole ° | "
+             "region − whole in the region / diag | converged |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for r in result["rows"]:
-        lines.append(f"| {r['mesh']} lift λ {r['lambda']:g} | {r['radius']:g} | {r['free_region']:,} / "
-                     f"{r['free_whole']:,} | {r['border_edges']:,} | {r['border_bend_region_deg']:.1f} | "
-                     f"{r['border_bend_whole_deg']:.1f} | {r['largest_bend_whole_deg']:.1f} | "
-                     f"{r['distance_to_whole']:.1e} | "
+        lines.append(f"| {r['mesh']} lift λ {r['lambda']:g} | {r['radius']:g} | {r.get('band', 0):g} | "
+                     f"{r['free_region']:,} / {r['free_whole']:,} | {r['border_edges']:,} | "
+                     f"{r['border_bend_region_deg']:.1f} | {r['border_bend_whole_deg']:.1f} | "
+                     f"{r['outer_bend_region_deg']:.1f} / {r['outer_bend_whole_deg']:.1f} | "
+                     f"{r['distance_to_whole_in_region']:.1e} | "
                      f"{'yes' if r['converged_region'] and r['converged_whole'] else 'no'} |")
     return "\n".join(lines)
 
@@ -122,16 +159,19 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--cells", default=DEFAULT_CELLS)
     ap.add_argument("--radii", default="0.35,0.5", help="fractions of the bounding-box diagonal")
+    ap.add_argument("--bands", default="0,0.25,0.5,1",
+                    help="falloff bands as fractions of the radius (0 = no band)")
     ap.add_argument("--out", default=str(HERE / "results" / "roi_seam.json"))
     args = ap.parse_args(argv)
     import edgedeform as ed
     radii = [float(x) for x in args.radii.split(",")]
+    bands = [float(x) for x in args.bands.split(",")]
     result = {"machine": machine_info(), "command": "bench/bench_roi_seam.py " + " ".join(argv or sys.argv[1:]),
               "rows": []}
     for cell in [c for c in args.cells.split(",") if c]:
         if cell.split(":")[0] not in MESHES:
             raise SystemExit(f"unknown mesh in {cell!r}: choose from {', '.join(MESHES)}")
-        result["rows"] += run_cell(ed, cell, radii, lambda row: print(json.dumps(row), flush=True))
+        result["rows"] += run_cell(ed, cell, radii, bands, lambda row: print(json.dumps(row), flush=True))
     Path(args.out).write_text(json.dumps(result, indent=1) + "\n")
     print(markdown(result))
 

@@ -107,18 +107,23 @@ def test_callgrind_handle_change_on_spot(tmp_path):
 
 
 def test_roi_seam_rows_and_the_bend_measure(tmp_path):
-    """bench_roi_seam.py on the small Spot: a row per radius; a region that holds every free
-    vertex matches the whole mesh; the dihedral measure is 0 at rest and sees a fold."""
+    """bench_roi_seam.py on the small Spot: a row per radius and band; a region that holds
+    every free vertex matches the whole mesh, with or without a band (its λ is then unchanged
+    wherever a vertex is); the dihedral measure is 0 at rest and sees a fold."""
     out = tmp_path / "seam.json"
-    run("bench_roi_seam.py", "--cells", "spot:1", "--radii", "0.35,10", "--out", out)
-    small, everything = load(out)["rows"]
+    run("bench_roi_seam.py", "--cells", "spot:1", "--radii", "0.35,10", "--bands", "0,0.5", "--out", out)
+    small, banded, everything, everything_banded = load(out)["rows"]
+    assert [r["band"] for r in (small, banded, everything, everything_banded)] == [0, 0.5, 0, 0.5]
     assert small["free_region"] < small["free_whole"] and small["border_edges"] > 0
     assert small["converged_region"] and small["converged_whole"]
     assert finite(small["border_bend_region_deg"], small["distance_to_whole"]) and small["distance_to_whole"] > 1e-3
-    assert everything["free_region"] == everything["free_whole"] and everything["border_edges"] == 0
-    assert everything["distance_to_whole"] < 1e-12
+    assert banded["free_region"] == small["free_region"]
+    assert banded["border_bend_region_deg"] != small["border_bend_region_deg"]
+    for row in (everything, everything_banded):
+        assert row["free_region"] == row["free_whole"] and row["border_edges"] == 0
+        assert row["distance_to_whole"] < 1e-12
     import bench_roi_seam
-    assert "| spot lift λ 1 | 0.35 |" in bench_roi_seam.markdown(load(out))
+    assert "| spot lift λ 1 | 0.35 | 0.5 |" in bench_roi_seam.markdown(load(out))
     # two triangles folded by 90 degrees about their shared edge
     F = np.array([[0, 1, 2], [1, 0, 3]])
     flat = np.array([[0, 0, 0], [1, 0, 0], [0.5, 1, 0], [0.5, -1, 0]], float)
@@ -128,3 +133,15 @@ def test_roi_seam_rows_and_the_bend_measure(tmp_path):
     assert edges.tolist() == [[0, 1]]
     assert bench_roi_seam.dihedral_degrees(flat, F, faces)[0] == pytest.approx(0.0, abs=1e-9)
     assert bench_roi_seam.dihedral_degrees(folded, F, faces)[0] == pytest.approx(90.0)
+
+
+def test_roi_seam_band_profile():
+    """The band's λ: unchanged up to r(1 − b) from the nearest handle, 0 from r on, strictly
+    between inside the band and falling with the distance."""
+    import bench_roi_seam
+    V = np.array([[0, 0, 0], [0.4, 0, 0], [0.5, 0, 0], [0.75, 0, 0], [0.9, 0, 0], [1.0, 0, 0], [1.5, 0, 0]], float)
+    lam, d = bench_roi_seam.band_lambda(V, [0], 0.8, 1.0, 0.5)
+    assert d.tolist() == pytest.approx([0, 0.4, 0.5, 0.75, 0.9, 1.0, 1.5])
+    assert lam[:3].tolist() == [0.8, 0.8, 0.8] and lam[5:].tolist() == [0.0, 0.0]
+    assert 0.8 > lam[3] > lam[4] > 0.0
+    assert lam[3] == pytest.approx(0.8 * 0.5 ** 2 * (3 - 2 * 0.5))
