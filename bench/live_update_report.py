@@ -1,4 +1,5 @@
-"""The table of bench/bench_live_update.py's results (bpy-free, for bench/report.py)."""
+"""The tables of bench/bench_live_update.py's and bench/bench_live_region.py's results
+(bpy-free, for bench/report.py)."""
 
 
 def markdown(result):
@@ -48,3 +49,17 @@ def markdown(result):
                       r["depsgraph_ms"])]
     return "\n".join(lines)
 
+
+def region_markdown(result):
+    r = result["results"][0]
+    return "\n".join([
+        f"`bench/bench_live_region.py` inside Blender {result['machine']['blender']} (background): "
+        f"{r['mesh']} ({r['vertices']:,} vertices), Proportional on at {r['radius_fraction']:g} of the "
+        f"diagonal ({r['free_vertices']:,} free vertices), a {r['handles']}-vertex handle on an Empty "
+        f"that moves a little every update, λ 0.5, edge domain. Median of {r['updates']} updates.", "",
+        "| bind ms | targets ms | solve ms | write ms | **update ms** | **updates/s** | depsgraph ms | "
+        "updates/s incl. depsgraph | radius step, grow / shrink, ms |",
+        "|---|---|---|---|---|---|---|---|---|",
+        f"| {r['bind_ms']:.0f} | {r['targets_ms']:.1f} | {r['solve_ms']:.1f} | {r['write_ms']:.1f} | "
+        f"**{r['update_ms']:.1f}** | **{r['updates_per_s']:.0f}** | {r['depsgraph_ms']:.1f} | "
+        f"{r['with_depsgraph_per_s']:.0f} | {r['radius_grow_ms']:.0f} / {r['radius_shrink_ms']:.0f} |"])

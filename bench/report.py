@@ -46,6 +46,8 @@ PAGES = {
          "live_settle.json", "bench/bench_live_settle.py", "bench_live_settle:markdown"),
         ("Does a region picked by radius cost what the region costs, whatever the mesh around it?",
          "roi_scale.json", "bench/bench_roi_scale.py", "bench_roi_scale:markdown"),
+        ("Live with a proportional radius on a 560k-vertex mesh: updates a second and a wheel step",
+         "live_region.json", "bench/bench_live_region.py", "live_update_report:region_markdown"),
         ("Does a region picked by radius kink where it ends? (the seam)",
          "roi_seam.json", "bench/bench_roi_seam.py", "bench_roi_seam:markdown"),
     ]),

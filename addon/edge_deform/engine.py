@@ -5,6 +5,7 @@ shape, the output and the controllers' rest transforms). Mesh data is read only 
 mesh_arrays; settings and transforms are read as attributes.
 """
 
+import dataclasses
 from dataclasses import dataclass
 from typing import List
 
@@ -116,6 +117,13 @@ def with_global_changes(inputs, ob):
     lam = inputs.stiffness if s.stiffness_group else float(s.stiffness)
     return Inputs(s.domain, inputs.handle_groups, inputs.handles, inputs.static,
                   inputs.roi, lam, inputs.roi_radius, inputs.roi_connected)
+
+
+def with_region_changes(inputs, ob):
+    """Inputs after a live change of the proportional radius or Connected Only while
+    Proportional stays on: the Region group is not used then, so nothing is re-read."""
+    radius, connected = region_radius(ob.edge_deform)
+    return dataclasses.replace(inputs, roi_radius=radius, roi_connected=connected)
 
 
 def controller_rest(ob, controller):

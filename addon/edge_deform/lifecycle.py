@@ -64,6 +64,15 @@ class ObjectSolver:
         self.inputs = engine.with_global_changes(self.inputs, self.ob)
         solver_cache.sync(self.binding, self.inputs, self.ob.name_full)
 
+    def region_changed(self):
+        """Follow a new proportional radius or Connected Only while Proportional stays on
+        (Live's wheel, the panel's field): the constraints again, without re-reading the
+        groups, the mesh or the output (0.2 s of a 0.4 s wheel step at 560k vertices).
+        Raises Refused when the radius frees nothing; the inputs are then unchanged."""
+        inputs = engine.with_region_changes(self.inputs, self.ob)
+        solver_cache.sync(self.binding, inputs, self.ob.name_full)
+        self.inputs = inputs
+
     def hold_grab(self, handles, static, roi, roi_radius=None, roi_connected=False):
         """Grab Deform's constraints; `release_grab` returns to the settings'. A radius
         that frees nothing is refused in plain words, the previous constraints gone."""

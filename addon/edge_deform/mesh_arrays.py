@@ -18,10 +18,27 @@ _READER_PREFIX = ".ed_w"
 
 # ---------------------------------------------------------------- geometry
 
+def _positions(mesh):
+    """(collection, property) of the vertex positions: the "position" attribute where
+    Blender has one (3.5+), whose foreach_get/set copy the array in one go (0.5 ms at 560k
+    vertices against 30-60 ms for mesh.vertices' "co"); else the vertices."""
+    attr = mesh.attributes.get("position")
+    if attr is not None and attr.data_type == 'FLOAT_VECTOR' and attr.domain == 'POINT':
+        return attr.data, "vector"
+    return mesh.vertices, "co"
+
+
+def _key_points(key_block):
+    """(collection, property) of a shape key's positions: ShapeKey.points where Blender has
+    it (4.1+; 0.5 ms at 560k vertices against 30 ms for .data), else .data."""
+    return getattr(key_block, "points", key_block.data), "co"
+
+
 def read_positions32(mesh):
     """Base-mesh vertex positions as float32 (n,3): exact copies for snapshots."""
     co = np.empty(len(mesh.vertices) * 3, np.float32)
-    mesh.vertices.foreach_get("co", co)
+    collection, prop = _positions(mesh)
+    collection.foreach_get(prop, co)
     return co.reshape(-1, 3)
 
 
@@ -64,7 +81,8 @@ def array_digest(a):
 
 
 def write_positions(mesh, co):
-    mesh.vertices.foreach_set("co", np.ascontiguousarray(co, np.float32).ravel())
+    collection, prop = _positions(mesh)
+    collection.foreach_set(prop, np.ascontiguousarray(co, np.float32).ravel())
 
 
 def read_selection(ob):
@@ -96,12 +114,14 @@ def matrix_to_numpy(matrix):
 def read_key(key_block):
     """A shape key's positions, float32 (n,3)."""
     co = np.empty(len(key_block.data) * 3, np.float32)
-    key_block.data.foreach_get("co", co)
+    collection, prop = _key_points(key_block)
+    collection.foreach_get(prop, co)
     return co.reshape(-1, 3)
 
 
 def write_key(key_block, co):
-    key_block.data.foreach_set("co", np.ascontiguousarray(co, np.float32).ravel())
+    collection, prop = _key_points(key_block)
+    collection.foreach_set(prop, np.ascontiguousarray(co, np.float32).ravel())
 
 
 # ---------------------------------------------------------------- point attributes

@@ -43,9 +43,13 @@ LAMBDA_STEP = 0.05
 # setting that shapes the result (the handles' groups and controllers too); where the
 # result goes (Output, the key's name) stays as the artist typed it.
 SHAPE_GROUPS = ("static_group", "roi_group", "stiffness_group")
-REGION_SETTINGS = ("proportional", "proportional_radius", "proportional_connected")
+# The radius and Connected Only while Proportional stays on need only new constraints
+# (ObjectSolver.region_changed); turning Proportional on or off brings the Region group
+# in or out: a rebind.
+RADIUS_SETTINGS = ("proportional_radius", "proportional_connected")
+REGION_SETTINGS = ("proportional",) + RADIUS_SETTINGS
 OUTPUT_SETTINGS = ("output", "shape_key_name")
-REBIND_SETTINGS = SHAPE_GROUPS + REGION_SETTINGS + OUTPUT_SETTINGS
+REBIND_SETTINGS = SHAPE_GROUPS + ("proportional",) + OUTPUT_SETTINGS
 RESTORED_SETTINGS = SHAPE_GROUPS + REGION_SETTINGS + (
     "stiffness", "domain", "iterations", "tolerance", "acceleration")
 WATCHED_SETTINGS = RESTORED_SETTINGS + OUTPUT_SETTINGS
@@ -200,6 +204,8 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                 or any(settings[0][n] != self.seen_settings[0][n] for n in REBIND_SETTINGS)):
             self.rebind()
             changed = True
+        elif any(settings[0][n] != self.seen_settings[0][n] for n in RADIUS_SETTINGS):
+            self.follow_radius()
         if s.domain != self.solver.binding.domain:
             self.start_switch(context)
             return
@@ -404,12 +410,23 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         if self.state not in (Live.SOLVING, Live.AT_REST, Live.HOLDING):
             return          # (a pause, refusal or switch reads it when it ends)
         try:
-            self.rebind()
+            self.follow_radius() if name in RADIUS_SETTINGS else self.rebind()
         except engine.EdgeDeformError as exc:
             setattr(s, name, before)
-            self.rebind()
+            self.follow_radius() if name in RADIUS_SETTINGS else self.rebind()
             self.say('WARNING', "%s; kept %s" % (exc, proportional.describe(s)))
         self.update(context)
+
+    def follow_radius(self):
+        """A new radius or Connected Only: new constraints only, when Proportional was on
+        when Live last read the settings (else the Region group decided: a rebind). The
+        next solve starts from the shape shown, as after a rebind."""
+        if not self.ob.edge_deform.proportional or self.solver.inputs.roi_radius is None:
+            self.rebind()
+            return
+        self.solver.region_changed()
+        self.seen_settings = self.watched_settings(self.ob)
+        self.seen_controllers = None
 
     def circle_where(self):
         """Where the radius circle goes: around the handles where they are now."""

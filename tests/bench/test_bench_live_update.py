@@ -34,3 +34,27 @@ def test_live_update_in_blender(tmp_path):
     assert result["machine"]["blender"]
     import live_update_report
     assert "| spot_low_resolution.obj | 829 | edge |" in live_update_report.markdown(result)
+
+
+@pytest.mark.skipif(BLENDER is None, reason="Blender is not installed")
+def test_live_region_in_blender(tmp_path):
+    """bench/bench_live_region.py on the small Spot split once, Proportional on: an update
+    and a wheel step each way, the region's free vertices fewer than the mesh's."""
+    out = tmp_path / "live_region.json"
+    env = dict(os.environ, EDGEDEFORM_PYTHONPATH=str(BUILD / "python"),
+               EDGEDEFORM_ADDON_DIR=str(ROOT / "addon"),
+               BLENDER_USER_SCRIPTS=str(tmp_path / "scripts"),
+               BLENDER_USER_CONFIG=str(tmp_path / "config"),
+               PATH="/usr/bin:/bin:" + os.environ.get("PATH", ""))
+    proc = subprocess.run([BLENDER, "-b", "--factory-startup", "--python-exit-code", "1",
+                           "--python", str(BENCH / "bench_live_region.py"), "--",
+                           "--mesh", "spot_low_resolution.obj", "--radius", "0.3", "--updates", "3",
+                           "--json", str(out)],
+                          capture_output=True, text=True, timeout=300, env=env)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    result = load(out)
+    (r,) = result["results"]
+    assert 0 < r["free_vertices"] < r["vertices"] == 3310
+    assert finite(r["update_ms"], r["radius_grow_ms"], r["radius_shrink_ms"]) and r["update_ms"] > 0
+    import live_update_report
+    assert "radius step" in live_update_report.region_markdown(result)
