@@ -73,11 +73,13 @@ class ObjectSolver:
         solver_cache.sync(self.binding, inputs, self.ob.name_full)
         self.inputs = inputs
 
-    def hold_grab(self, handles, static, roi, roi_radius=None, roi_connected=False):
+    def hold_grab(self, handles, static, roi, roi_radius=None, roi_connected=False,
+                  roi_from=None):
         """Grab Deform's constraints; `release_grab` returns to the settings'. A radius
-        that frees nothing is refused in plain words, the previous constraints gone."""
+        (measured from roi_from, None: every handle) that frees nothing is refused in plain
+        words, the previous constraints gone."""
         try:
-            self.binding.hold_grab(handles, static, roi, roi_radius, roi_connected)
+            self.binding.hold_grab(handles, static, roi, roi_radius, roi_connected, roi_from)
         except ValueError as exc:
             raise solver_cache.plain(exc, roi_radius, roi_connected) from None
 

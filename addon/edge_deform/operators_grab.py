@@ -79,6 +79,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             current = shown_shape.addon_shape(ob)
             pinned = np.setdiff1d(inputs.handles, moving)
             self.held = np.concatenate([moving, pinned])
+            self.moving = moving        # (hold measures the radius from them)
             self.group_region = None
             self.hold(solver, ob)
         except Exception:
@@ -89,7 +90,6 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             raise
         self.solver = solver
         self.current = current
-        self.moving = moving
         self.written = None         # the last shape written
         self.start = current[moving]
         self.pinned = current[pinned]
@@ -128,11 +128,13 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
 
     def hold(self, solver, ob):
         """The Deformer holds the dragged and the pinned vertices, with the settings'
-        static vertices and region: proportional on, the radius around all of them; off,
+        static vertices and region: proportional on, the radius around the dragged
+        vertices (Blender measures from what it moves, not from the pinned handles); off,
         the Region group."""
         radius, connected = engine.region_radius(ob.edge_deform)
         roi = None if radius is not None else self.region_vertices(solver, ob)
-        solver.hold_grab(self.held, solver.inputs.static, roi, radius, connected)
+        solver.hold_grab(self.held, solver.inputs.static, roi, radius, connected,
+                         roi_from=self.moving if radius is not None else None)
 
     def region_vertices(self, solver, ob):
         """The Region group's vertices (None: the whole mesh). With proportional on at the

@@ -28,12 +28,12 @@ def _digest(*arrays):
     return h.hexdigest()
 
 
-def _region(roi, roi_radius, roi_connected):
+def _region(roi, roi_radius, roi_connected, roi_from=None):
     """set_constraints' region arguments: a list of vertices or a radius (the core refuses
-    both at once)."""
+    both at once), measured from roi_from (None: every handle)."""
     if roi_radius is None:
         return {"roi": roi}
-    return {"roi_radius": roi_radius, "roi_connected": roi_connected}
+    return {"roi_radius": roi_radius, "roi_connected": roi_connected, "roi_from": roi_from}
 
 
 class Constraints(enum.Enum):
@@ -146,11 +146,12 @@ class Binding:
             self._bind_ms += (time.perf_counter() - t0) * 1e3
         self._inputs, self._inputs_owner = inputs, owner
 
-    def hold_grab(self, handles, static, roi, roi_radius=None, roi_connected=False):
+    def hold_grab(self, handles, static, roi, roi_radius=None, roi_connected=False,
+                  roi_from=None):
         """Grab Deform's constraints (its selection), until release_grab."""
         self._constraints, self._constraint_key = Constraints.NONE, None
         self._deformer.set_constraints(handles=handles, static=static,
-                                       **_region(roi, roi_radius, roi_connected))
+                                       **_region(roi, roi_radius, roi_connected, roi_from))
         self._constraints = Constraints.GRAB
         self._cold_start_due = True
 

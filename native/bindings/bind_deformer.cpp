@@ -126,15 +126,16 @@ semi-definite, as CGAL's ARAP does). Raises ValueError for a malformed or degene
       .def(
           "set_constraints",
           [](Deformer& d, const IndicesArg& handles, const OptionalIndicesArg& statics, const OptionalIndicesArg& roi,
-             std::optional<double> roi_radius, bool roi_connected) {
+             std::optional<double> roi_radius, bool roi_connected, const OptionalIndicesArg& roi_from) {
             ConstraintSets sets = constraint_sets(handles.obj, statics.obj, roi.obj);
             sets.roi_radius = roi_radius;
             sets.roi_connected = roi_connected;
+            if (!roi_from.obj.is_none()) sets.roi_from = to_indices(roi_from.obj, "roi_from");
             py::gil_scoped_release release;
             d.set_constraints(sets);
           },
           py::arg("handles"), py::arg("static") = py::none(), py::arg("roi") = py::none(),
-          py::arg("roi_radius") = py::none(), py::arg("roi_connected") = false,
+          py::arg("roi_radius") = py::none(), py::arg("roi_connected") = false, py::arg("roi_from") = py::none(),
           R"doc(Which vertices are moved, which stay, and which may change.
 
 handles: (h,) vertex indices that solve() puts exactly on its targets.
@@ -145,9 +146,11 @@ any handle vertex, as Blender's proportional editing: straight-line distance, or
 mesh edges when roi_connected (Blender's "Connected Only": other components stay out).
 A vertex exactly roi_radius away is inside. The same region passed as roi gives the same
 positions, bit for bit.
+roi_from: (k,) the vertices roi_radius is measured from, or None for the handles (Blender
+measures from what it moves: a tool that pins other handles passes only the dragged ones).
 Raises ValueError when a vertex is both handle and static, for a roi_radius that is not finite
-and > 0, roi together with roi_radius, roi_connected without roi_radius, or a roi_radius that
-leaves no vertex free; IndexError when an index is out of range.)doc")
+and > 0, roi together with roi_radius, roi_connected or roi_from without roi_radius, an empty
+roi_from, or a roi_radius that leaves no vertex free; IndexError when an index is out of range.)doc")
       .def(
           "set_stiffness",
           [](Deformer& d, const StiffnessArg& stiffness) {

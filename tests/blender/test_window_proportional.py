@@ -334,9 +334,48 @@ def s5_grab_radius_then_region_group():
     yield from until(lambda: running() is None and ob.mode == 'EDIT')
 
 
+def s6_grab_measures_from_the_dragged_vertices():
+    """Grab pins the handles it does not drag where they are shown; the radius is measured
+    from the dragged vertices only, as Blender's from what it moves: nothing near the pinned
+    handle is freed."""
+    ob, handle = plane(), HANDLE[0]
+    s = ob.edge_deform
+    rest = positions(ob.data).astype(float)
+    w = width(ob)
+    x = rest[:, 0]
+    middle = np.flatnonzero(np.abs(x - 0.5 * (x.min() + x.max())) < 0.05 * w)
+    s.proportional = True
+    s.proportional_radius = r = 0.2 * w
+    near_pinned = (distance_to(rest, handle) <= r) & (distance_to(rest, middle) > r)
+    assert near_pinned.any(), "the scene needs vertices near the handle and far from the drag"
+    select_only(ob.data, middle)
+    activate(ob)
+    event('MOUSEMOVE', at=center())
+    yield
+    tap('TAB')
+    yield from until(lambda: ob.mode == 'EDIT')
+    yield from press_button("bpy.ops.edge_deform.grab(")
+    yield from until(lambda: running() is not None)
+    event('MOUSEMOVE', at=center())
+    yield
+    yield
+    event('MOUSEMOVE', at=center(0, 40))
+    yield from until(lambda: (running() is not None and running().settle.at_rest
+                              and running().settle.iterations > 0
+                              and np.abs(running().delta).max() > 0), 30)
+    free = np.asarray(running().solver.binding.deformer.free_vertices)
+    assert free.size > 0
+    assert distance_to(rest, middle)[free].max() <= r * 1.0001, "free only within r of the dragged"
+    shown = key_positions(ob).astype(float)
+    assert np.abs(shown[middle] - rest[middle]).max() > 0.01 * w, "the drag moved them"
+    assert np.abs(shown[near_pinned] - rest[near_pinned]).max() < 1e-6 * w, "near the pinned handle: at rest"
+    tap('ESC', at=center(0, 40))
+    yield from until(lambda: running() is None and ob.mode == 'EDIT')
+
+
 SECTIONS = [s1_live_keys_and_circle, s2_live_resize_while_lifted,
             s3_live_refuses_a_radius_that_frees_nothing, s4_grab_keys_header_and_resize,
-            s5_grab_radius_then_region_group]
+            s5_grab_radius_then_region_group, s6_grab_measures_from_the_dragged_vertices]
 HANDLE = [None]
 
 

@@ -125,3 +125,35 @@ def test_bad_radius_rejected_and_deformer_unchanged(kwargs, words):
     assert d.free_vertices == free
     after = d.solve(targets, max_iterations=5, warm_start=False)
     assert np.array_equal(after.positions, before)
+
+
+@pytest.mark.parametrize("connected", [False, True])
+def test_roi_from_measures_from_the_given_vertices(connected):
+    """roi_from: the radius is measured from those vertices, not from every handle (Grab
+    pins other handles where they are shown; Blender measures from what it moves)."""
+    V, F, handles, static, targets = dino_case()
+    far = np.flatnonzero(V[:, up_axis(V)] <= np.quantile(V[:, up_axis(V)], 0.02))  # pinned, far below
+    held = np.concatenate([handles, far])
+    radius = 0.2 * diag(V)
+    d = ed.Deformer(V, F)
+    d.set_constraints(held, static, roi_radius=radius, roi_connected=connected, roi_from=handles)
+    region = along_edges_region(V, F, handles, radius) if connected else straight_line_region(V, handles, radius)
+    np.testing.assert_array_equal(d.free_vertices, expected_free(region, held, static))
+    everywhere = ed.Deformer(V, F)
+    everywhere.set_constraints(held, static, roi_radius=radius, roi_connected=connected)
+    assert len(everywhere.free_vertices) > len(d.free_vertices)   # the far pins grew a region of their own
+
+
+def test_roi_from_refusals_leave_the_deformer_as_it_was():
+    V, F, handles, static, targets = dino_case()
+    d = ed.Deformer(V, F)
+    d.set_constraints(handles, static, roi_radius=0.2 * diag(V))
+    before = np.array(d.free_vertices)
+    for kwargs, words in ((dict(roi_from=handles), "roi_from needs roi_radius"),
+                          (dict(roi_radius=0.2 * diag(V), roi_from=[]), "roi_from is empty"),
+                          (dict(roi_radius=1e-9 * diag(V), roi_from=static), "of roi_from")):
+        with pytest.raises(ValueError, match=words):
+            d.set_constraints(handles, static, **kwargs)
+        np.testing.assert_array_equal(d.free_vertices, before)
+    with pytest.raises(IndexError):
+        d.set_constraints(handles, static, roi_radius=1.0, roi_from=[len(V)])

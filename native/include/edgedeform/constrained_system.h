@@ -29,6 +29,10 @@ struct ConstraintSets {
   // (region_by_distance.h), along the mesh edges when roi_connected.
   std::optional<double> roi_radius;
   bool roi_connected = false;
+  // The vertices roi_radius is measured from (nullopt: the handles). Grab measures from the
+  // vertices it drags, as Blender's proportional editing from the selection, while the
+  // other handles it pins are handles too.
+  std::optional<std::vector<int>> roi_from;
 };
 
 struct ConstrainedSystem {

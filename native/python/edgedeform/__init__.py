@@ -83,17 +83,19 @@ class Deformer(_NativeDeformer):
         """How many vertices weld=True merged into a copy of theirs (0 without weld)."""
         return 0 if self._welding is None else self._welding.copies
 
-    def set_constraints(self, handles, static=None, roi=None, roi_radius=None, roi_connected=False):
+    def set_constraints(self, handles, static=None, roi=None, roi_radius=None, roi_connected=False,
+                        roi_from=None):
         w = self._welding
         if w is None:
-            return super().set_constraints(handles, static, roi, roi_radius, roi_connected)
+            return super().set_constraints(handles, static, roi, roi_radius, roi_connected, roi_from)
         h, s = w.indices(handles, "handles"), w.indices(static, "static")
         if h is not None and s is not None and h.dtype.kind in "iu" and s.dtype.kind in "iu":
             both = np.intersect1d(h, s)
             if both.size:
                 raise ValueError(f"vertices {w.first[both[:5]].tolist()} are welded copies of both a "
                                  f"handle and a static vertex")
-        super().set_constraints(h, s, w.indices(roi, "roi"), roi_radius, roi_connected)
+        super().set_constraints(h, s, w.indices(roi, "roi"), roi_radius, roi_connected,
+                                w.indices(roi_from, "roi_from"))
         self._handles = np.asarray(handles).reshape(-1)
 
     def set_stiffness(self, stiffness):

@@ -68,8 +68,15 @@ std::optional<std::vector<int>> region_of_interest(const RowMatrixX3d& rest, con
     throw std::invalid_argument("roi and roi_radius both given: pass the region as one or the other");
   if (sets.roi_connected && !sets.roi_radius)
     throw std::invalid_argument("roi_connected needs roi_radius (the distance along the edges)");
+  if (sets.roi_from && !sets.roi_radius)
+    throw std::invalid_argument("roi_from needs roi_radius (the distance measured from it)");
   if (!sets.roi_radius) return sets.roi;
-  return vertices_within_distance(rest, adjacency, sets.handles, *sets.roi_radius, sets.roi_connected);
+  if (sets.roi_from) {
+    check_index_set(*sets.roi_from, static_cast<int>(rest.rows()), "roi_from");
+    if (sets.roi_from->empty()) throw std::invalid_argument("roi_from is empty: give the vertices to measure from, or None");
+  }
+  return vertices_within_distance(rest, adjacency, sets.roi_from ? *sets.roi_from : sets.handles, *sets.roi_radius,
+                                  sets.roi_connected);
 }
 
 std::vector<Role> vertex_roles(int n, const std::vector<bool>& referenced, const RowMatrixX3d& rest,
@@ -109,7 +116,7 @@ std::vector<Role> vertex_roles(int n, const std::vector<bool>& referenced, const
 std::string no_free_vertex_message(const ConstraintSets& sets) {
   std::ostringstream msg;
   msg << "no free vertex within roi_radius " << *sets.roi_radius << (sets.roi_connected ? " along the edges" : "")
-      << " of the handles: increase the radius";
+      << (sets.roi_from ? " of roi_from" : " of the handles") << ": increase the radius";
   return msg.str();
 }
 
