@@ -34,11 +34,10 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 
-from edits import diagonal, edit, mesh_path, method_list  # noqa: E402
+from edits import MESH_FILES, diagonal, edit, mesh_path, method_list  # noqa: E402
 from machine import machine_info  # noqa: E402
 
-SAMPLES = {"dino": "cgal_dino.off", "head": "cgal_mannequin-devil.off",
-           "plane": "cgal_plane.off", "spot": "spot_low_resolution.obj"}
+SAMPLES = {name: MESH_FILES[name] for name in ("dino", "head", "plane", "spot")}   # the default --meshes
 LAMBDAS = (0.0, 0.5, 1.0)
 DOMAINS = ("edge", "primal")
 GOAL = 1e-3

@@ -51,11 +51,9 @@ ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 
 from bench_convergence import cached_reference  # noqa: E402
-from edits import diagonal, edit, mesh_path  # noqa: E402
+from edits import MESH_FILES, diagonal, edit, mesh_path  # noqa: E402
 from machine import machine_info  # noqa: E402
 
-MESHES = {"koala": "koala.obj", "spot": "spot_low_resolution.obj", "dino": "cgal_dino.off",
-          "spot11k": "spot.obj"}
 TIMER_MS = 1000.0 / 60.0       # Live's timer (modal_tool.ModalTool)
 # The add-on's settle policy (bpy-free): the tick's time budget, "settled", the give-up.
 _spec = importlib.util.spec_from_file_location(
@@ -110,7 +108,7 @@ def tick(d, targets, budget, moving=False, method="anderson", claims="checked"):
 def run(mesh, domain, lam, drag_ticks, log, method="anderson", claims="checked"):
     import edgedeform as ed
     from edgedeform.mesh_files import read_mesh
-    V, F = read_mesh(mesh_path(MESHES[mesh]))
+    V, F = read_mesh(mesh_path(MESH_FILES[mesh]))
     handles, static, final = edit(V, "lift")
     dg = diagonal(V)
     d = ed.Deformer(V, F, domain=domain)
@@ -228,7 +226,7 @@ def markdown(result):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--mesh", default="koala", help=",".join(MESHES) + " (comma-separated)")
+    ap.add_argument("--mesh", default="koala", help=",".join(MESH_FILES) + " (comma-separated)")
     ap.add_argument("--domain", default="edge")
     ap.add_argument("--lam", default="0.5", help="stiffness λ (comma-separated: a row each)")
     ap.add_argument("--drag-ticks", type=int, default=30)

@@ -42,11 +42,9 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 from bench_convergence import cached_reference  # noqa: E402
-from edits import diagonal, edit, mesh_path  # noqa: E402
+from edits import MESH_FILES, diagonal, edit, mesh_path  # noqa: E402
 from machine import machine_info  # noqa: E402
 
-MESHES = {"koala": "koala.obj", "spot11k": "spot.obj", "spot": "spot_low_resolution.obj", "dino": "cgal_dino.off",
-          "head": "cgal_mannequin-devil.off", "plane": "cgal_plane.off"}
 # λ 1 only: below it every method here is Anderson. A run writes a fresh JSON: the retired
 # LU rows at λ 0.5 in bench/results/newton.json are then kept by git and record 0029.
 DEFAULT_CELLS = "dino:lift:1,head:lift:1,spot11k:lift:1,koala:lift:1"
@@ -65,8 +63,8 @@ def parse_cell(text):
     parts = text.split(":")
     if len(parts) == 3:
         parts.insert(2, "edge")
-    if len(parts) != 4 or parts[0] not in MESHES:
-        raise SystemExit(f"bad cell {text!r}: mesh:edit[:domain]:lambda, mesh one of {', '.join(MESHES)}")
+    if len(parts) != 4 or parts[0] not in MESH_FILES:
+        raise SystemExit(f"bad cell {text!r}: mesh:edit[:domain]:lambda, mesh one of {', '.join(MESH_FILES)}")
     return parts[0], parts[1], parts[2], float(parts[3])
 
 
@@ -86,12 +84,12 @@ def solve(ed, V, F, handles, static, domain, lam, targets, method, tolerance, ma
 def run_cell(ed, cell, methods, tolerances, max_iterations, log):
     from edgedeform.mesh_files import read_mesh
     name, edit_name, domain, lam = parse_cell(cell)
-    V, F = read_mesh(mesh_path(MESHES[name]))
+    V, F = read_mesh(mesh_path(MESH_FILES[name]))
     handles, static, targets = edit(V, edit_name)
     probe = ed.Deformer(V, F, domain=domain)
     probe.set_constraints(handles, static)
     probe.set_stiffness(lam)
-    X_ref, ref_residual, _ = cached_reference(probe, MESHES[name].split(".")[0], edit_name, domain, lam, targets)
+    X_ref, ref_residual, _ = cached_reference(probe, MESH_FILES[name].split(".")[0], edit_name, domain, lam, targets)
     E_ref = probe.energy(X_ref)
     dg = diagonal(V)
     rows = []

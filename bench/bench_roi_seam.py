@@ -41,10 +41,9 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from edits import diagonal, edit, mesh_path  # noqa: E402
+from edits import MESH_FILES, diagonal, edit, mesh_path  # noqa: E402
 from machine import machine_info  # noqa: E402
 
-MESHES = {"koala": "koala.obj", "spot11k": "spot.obj", "spot": "spot_low_resolution.obj", "dino": "cgal_dino.off"}
 DEFAULT_CELLS = "dino:1,dino:0.5,spot11k:1,spot11k:0.5,koala:1,koala:0.5"
 TOLERANCE = 1e-5
 MAX_ITERATIONS = 6000
@@ -95,7 +94,7 @@ def run_cell(ed, cell, radii, bands, log):
     from edgedeform.mesh_files import read_mesh
     name, lam = cell.split(":")
     lam = float(lam)
-    V, F = read_mesh(mesh_path(MESHES[name]))
+    V, F = read_mesh(mesh_path(MESH_FILES[name]))
     handles, static, targets = edit(V, "lift")
     dg = diagonal(V)
     whole, whole_s, whole_free = solve(ed, V, F, handles, static, lam, targets)
@@ -169,8 +168,8 @@ def main(argv=None):
     result = {"machine": machine_info(), "command": "bench/bench_roi_seam.py " + " ".join(argv or sys.argv[1:]),
               "rows": []}
     for cell in [c for c in args.cells.split(",") if c]:
-        if cell.split(":")[0] not in MESHES:
-            raise SystemExit(f"unknown mesh in {cell!r}: choose from {', '.join(MESHES)}")
+        if cell.split(":")[0] not in MESH_FILES:
+            raise SystemExit(f"unknown mesh in {cell!r}: choose from {', '.join(MESH_FILES)}")
         result["rows"] += run_cell(ed, cell, radii, bands, lambda row: print(json.dumps(row), flush=True))
     Path(args.out).write_text(json.dumps(result, indent=1) + "\n")
     print(markdown(result))

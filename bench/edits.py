@@ -22,6 +22,9 @@ ROOT = HERE.parent
 # meshes the tests and the samples already carry.
 MESH_FOLDERS = (HERE / "meshes", ROOT / "tests" / "data", ROOT / "blend_samples" / "meshes")
 UNPACKED = HERE / "results" / "cache" / "meshes"   # not committed (.gitignore)
+# The benchmark meshes' short names, one table for every script's --mesh/--cells/--meshes.
+MESH_FILES = {"koala": "koala.obj", "spot11k": "spot.obj", "spot": "spot_low_resolution.obj",
+              "dino": "cgal_dino.off", "head": "cgal_mannequin-devil.off", "plane": "cgal_plane.off"}
 TWIST_DEGREES = 90.0
 BEND_DEGREES = 30.0
 
