@@ -162,9 +162,10 @@ def run(ed, mesh, splits, radius_fraction, repeat):
     V, F, _ = subdivided(mesh, splits)
     handles, targets, radius, step = handle_edit(V, radius_fraction)
 
+    outside_checks = []   # one per solve of the big mesh: every vertex outside at rest, bit for bit
+
     def check_outside_big(positions, free):
-        if not outside_at_rest(V, positions, np.concatenate([free, handles])):
-            raise SystemExit("a vertex outside the region moved")
+        outside_checks.append(outside_at_rest(V, positions, np.concatenate([free, handles])))
 
     big_d, big = time_case(ed, V, F, dict(handles=handles, roi_radius=radius), targets, step, repeat,
                            check_outside_big)
@@ -193,7 +194,8 @@ def run(ed, mesh, splits, radius_fraction, repeat):
                    vertices=len(Vx), faces=len(Fx))
     return {"mesh": f"{mesh} split {splits}×", "radius_fraction": radius_fraction, "radius": radius,
             "handles": len(handles), "lambda": LAMBDA, "region": big, "cut_out": small,
-            "outside_bit_equal": True}
+            "outside_bit_equal": bool(outside_checks) and all(outside_checks),
+            "outside_checked_solves": len(outside_checks)}
 
 
 def markdown(result):
@@ -204,7 +206,8 @@ def markdown(result):
              f"diagonal of a {r['handles']}-vertex handle disk: {big['free_vertices']:,} free vertices, "
              f"{big['active_nodes']:,} energy terms; against that region cut out as a mesh of its own "
              f"({small['vertices']:,} vertices). Edge domain, λ {r['lambda']:g}; medians of the runs. Outside "
-             f"the region every vertex stayed at rest bit for bit: "
+             f"the region every vertex stayed at rest bit for bit after each of "
+             f"{r.get('outside_checked_solves', 'the')} solves: "
              f"{'yes' if r['outside_bit_equal'] else 'no'}.", "",
              "| | region in the big mesh | the region as its own mesh | ratio |", "|---|---|---|---|"]
     for label, key, fmt in (("construct (once per mesh), ms", "construct_ms", "{:.0f}"),

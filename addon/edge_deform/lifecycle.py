@@ -67,7 +67,7 @@ class ObjectSolver:
     def region_changed(self):
         """Follow a new proportional radius or Connected Only while Proportional stays on
         (Live's wheel, the panel's field): the constraints again, without re-reading the
-        groups, the mesh or the output (0.2 s of a 0.4 s wheel step at 560k vertices).
+        groups, the mesh or the output (a wheel step at 560k vertices: 405 -> 140 ms).
         Raises Refused when the radius frees nothing; the inputs are then unchanged."""
         inputs = engine.with_region_changes(self.inputs, self.ob)
         solver_cache.sync(self.binding, inputs, self.ob.name_full)

@@ -1,7 +1,8 @@
 // Ordering many items by a small integer key in linear time (a counting sort): the mesh's
 // edges and the graph's arcs are grouped by their first vertex or node this way, and only
 // the handful of items within each group is sorted by comparison. At 560k vertices this
-// made the edge topology and the node graph ~3x faster than one std::sort over everything.
+// took the edge topology from 269 to 116 ms and the node graph from 346 to 234 ms, against
+// one std::sort over every corner (record 0054).
 #pragma once
 
 #include <cstddef>

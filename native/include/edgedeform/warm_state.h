@@ -3,7 +3,7 @@
 // last solve left it (a live drag reuses it as it is), and per graph node, once the set
 // changes and its terms are renumbered. Only nodes some solve fitted are kept per node (a
 // hash map, not an array over the graph): a small region of a 560k-vertex mesh would
-// otherwise carry 250 MB of identity rotations.
+// otherwise carry 255 MB of identity rotations.
 //
 // Invalidation: store() after each solve makes the per-term fit valid; a constraint change
 // (keep_per_node) moves it into the per-node copy; starting_fit() hands the per-term fit

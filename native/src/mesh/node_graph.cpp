@@ -81,7 +81,7 @@ NodeGraph build_node_graph(const RowMatrixX3d& V, const RowMatrixX3i& F, const E
     aw.push_back(clamp_negative_weights ? std::max(w, 0.0) : w);
     s = e;
   }
-  // Freed before the adjacency is built: at 560k vertices they are ~80 MB.
+  // Freed before the adjacency is built: 3.4M corners' ids and weights at 560k vertices.
   for (std::vector<int>* v : {&first, &second, &order}) std::vector<int>().swap(*v);
   std::vector<double>().swap(half_cot);
   const Eigen::Index n_arcs = static_cast<Eigen::Index>(ai.size());
