@@ -79,6 +79,21 @@ def start_live():
     yield
 
 
+def start_grab(ob):
+    """Grab from the panel's button on the selected vertices, as an artist starts it."""
+    activate(ob)
+    event('MOUSEMOVE', at=center())
+    yield
+    tap('TAB')
+    yield from until(lambda: ob.mode == 'EDIT')
+    yield from press_button("bpy.ops.edge_deform.grab(")
+    yield from until(lambda: running() is not None)
+    assert running() is not None, "the panel's Grab Deform did not start Grab"
+    event('MOUSEMOVE', at=center())
+    yield
+    yield
+
+
 def at_rest():
     return running() is not None and running().settle.at_rest
 
@@ -218,16 +233,7 @@ def s4_grab_keys_header_and_resize():
     s.proportional = True
     s.proportional_radius = r0 = 0.5 * w
     select_only(ob.data, handle)
-    activate(ob)
-    event('MOUSEMOVE', at=center())
-    yield
-    tap('TAB')
-    yield from until(lambda: ob.mode == 'EDIT')
-    yield from press_button("bpy.ops.edge_deform.grab(")
-    yield from until(lambda: running() is not None)
-    event('MOUSEMOVE', at=center())
-    yield
-    yield
+    yield from start_grab(ob)
     event('MOUSEMOVE', at=center(0, 60))
 
     def settled_drag():
@@ -302,16 +308,7 @@ def s5_grab_radius_then_region_group():
     s.proportional = True
     s.proportional_radius = 0.7 * w
     select_only(ob.data, handle)
-    activate(ob)
-    event('MOUSEMOVE', at=center())
-    yield
-    tap('TAB')
-    yield from until(lambda: ob.mode == 'EDIT')
-    yield from press_button("bpy.ops.edge_deform.grab(")
-    yield from until(lambda: running() is not None)
-    event('MOUSEMOVE', at=center())
-    yield
-    yield
+    yield from start_grab(ob)
     event('MOUSEMOVE', at=center(0, 60))
 
     def settled_drag():
@@ -349,16 +346,7 @@ def s6_grab_measures_from_the_dragged_vertices():
     near_pinned = (distance_to(rest, handle) <= r) & (distance_to(rest, middle) > r)
     assert near_pinned.any(), "the scene needs vertices near the handle and far from the drag"
     select_only(ob.data, middle)
-    activate(ob)
-    event('MOUSEMOVE', at=center())
-    yield
-    tap('TAB')
-    yield from until(lambda: ob.mode == 'EDIT')
-    yield from press_button("bpy.ops.edge_deform.grab(")
-    yield from until(lambda: running() is not None)
-    event('MOUSEMOVE', at=center())
-    yield
-    yield
+    yield from start_grab(ob)
     event('MOUSEMOVE', at=center(0, 40))
     yield from until(lambda: (running() is not None and running().settle.at_rest
                               and running().settle.iterations > 0
