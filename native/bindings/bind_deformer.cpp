@@ -183,7 +183,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
       .def_property_readonly("n_vertices", &Deformer::n_vertices, "vertices of the mesh")
       .def_property_readonly("n_faces", &Deformer::n_faces, "triangles of the mesh")
       .def_property_readonly(
-          "n_nodes", [](const Deformer& d) { return d.graph().n_nodes; }, "graph nodes (edges or vertices)")
+          "n_nodes", &Deformer::n_nodes, "graph nodes (edges or vertices)")
       .def_property_readonly(
           "domain", [](const Deformer& d) { return std::string(domain_name(d.domain())); }, "\"edge\" or \"primal\"")
       .def_property_readonly("analyses", &Deformer::analyses, "symbolic analyses so far (reuse check)")
@@ -209,7 +209,11 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
           "weights", [](const Deformer& d) { return Eigen::VectorXd(d.graph().arc_weights); },
           "(n_arcs,) float64 arc weights (after clamping, when on)")
       .def(
-          "node_stiffness", [](const Deformer& d) { return Eigen::VectorXd(d.node_lambda()); },
+          "node_stiffness",
+          [](const Deformer& d) {
+            py::gil_scoped_release release;  // node_lambda() waits for a solve in another thread
+            return d.node_lambda();
+          },
           "(n_nodes,) float64 lambda per node under the current stiffness")
       .def("_laplacian_coo", [](const Deformer& d) { return to_coo(d.graph().laplacian()); })
       .def("_node_matrix_coo", [](const Deformer& d) { return to_coo(d.graph().node_matrix()); })

@@ -15,7 +15,7 @@ struct ConstrainedGrid {
   static constexpr int kNx = 9, kNy = 8;
   TestMesh mesh = grid(kNx, kNy, 0.3);
   EdgeTopology topo;
-  VertexAdjacency adjacency;
+  MeshIncidence incidence;
   NodeGraph g;
   std::vector<bool> referenced;
   ConstraintSets whole_sets, part_sets;
@@ -23,7 +23,7 @@ struct ConstrainedGrid {
   explicit ConstrainedGrid(Domain domain) {
     const int n = static_cast<int>(mesh.V.rows());
     topo = build_edge_topology(mesh.F, n);
-    adjacency = vertex_adjacency(topo.edges, n);
+    incidence = mesh_incidence(mesh.F, n);
     g = build_node_graph(mesh.V, mesh.F, topo, domain, true);
     referenced = referenced_vertices(mesh.F, n);
     for (int i = 0; i < kNx; ++i) {
@@ -33,11 +33,12 @@ struct ConstrainedGrid {
     part_sets = whole_sets;
     for (int v = 3 * kNx; v < 6 * kNx; ++v) part_sets.handles.push_back(v);  // rows 3-5
   }
+  VertexNeighbours neighbours() const { return {mesh.F, incidence}; }
   ConstrainedSystem layout(const ConstraintSets& s) const {
-    return constrained_layout(g, mesh.V, adjacency, referenced, s);
+    return constrained_layout(g, mesh.V, neighbours(), referenced, s);
   }
   ConstrainedSystem whole(const ConstraintSets& s) const {
-    return build_constrained_system(g, mesh.V, adjacency, referenced, s);
+    return build_constrained_system(g, mesh.V, neighbours(), referenced, s);
   }
   // Targets of s's handles: the top row raised by `lift`, the others where they are.
   RowMatrixX3d targets(const ConstraintSets& s, double lift) const {

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "edgedeform/constrained_system.h"
+#include "edgedeform/stiffness.h"
 #include "edgedeform/mesh_checks.h"
 #include "test_meshes.h"
 
@@ -32,7 +33,9 @@ struct Case {
         if (v % 7 >= 2) roi.push_back(v);  // the two left columns stay out
       sets.roi = roi;
     }
-    sys = build_constrained_system(g, mesh.V, vertex_adjacency(topo.edges, static_cast<int>(mesh.V.rows())), referenced_vertices(mesh.F, static_cast<int>(mesh.V.rows())), sets);
+    const MeshIncidence incidence = mesh_incidence(mesh.F, static_cast<int>(mesh.V.rows()));
+    sys = build_constrained_system(g, mesh.V, VertexNeighbours(mesh.F, incidence),
+                                   referenced_vertices(mesh.F, static_cast<int>(mesh.V.rows())), sets);
   }
 
   // Global vertex of a local column.
@@ -130,15 +133,15 @@ TEST_P(ConstrainedSystemCases, JacobiansAndAssembledMatricesMatchADenseReference
 
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  Eigen::VectorXd node_lambda(c.g.n_nodes);
-  for (int i = 0; i < c.g.n_nodes; ++i) node_lambda(i) = unit(rng);
-  AssembledSystem as = assemble_system(c.sys, node_lambda);
+  Eigen::VectorXd vertex_lambda(c.g.n_vertices);
+  for (int v = 0; v < c.g.n_vertices; ++v) vertex_lambda(v) = unit(rng);
+  AssembledSystem as = assemble_system(c.sys, vertex_lambda);
   for (int pass = 0; pass < 2; ++pass) {  // as assembled, then after update_stiffness
     Eigen::VectorXd W1(J1.rows()), W2(J2.rows());
     for (int a = 0; a < J1.rows(); ++a)
       W1(a) = as.term_lambda(arc_term[static_cast<size_t>(a)]) * c.sys.stencil.weight[static_cast<size_t>(a)];
     for (int t = 0; t < J2.rows(); ++t) {
-      EXPECT_EQ(as.term_lambda(t), node_lambda(c.sys.term_nodes[static_cast<size_t>(t)]));
+      EXPECT_EQ(as.term_lambda(t), node_stiffness(c.g, vertex_lambda)(c.sys.term_nodes[static_cast<size_t>(t)]));
       W2(t) = 1.0 - as.term_lambda(t);
     }
     const Eigen::MatrixXd F1 = columns(c, J1, 0, nf), F2 = columns(c, J2, 0, nf);
@@ -147,8 +150,8 @@ TEST_P(ConstrainedSystemCases, JacobiansAndAssembledMatricesMatchADenseReference
                               F2.transpose() * W2.asDiagonal() * columns(c, J2, nf, nc);
     EXPECT_LT((Eigen::MatrixXd(as.A) - A).norm(), 1e-12 * A.norm()) << pass;
     EXPECT_LT((Eigen::MatrixXd(as.K_fixed) - K).norm(), 1e-12 * A.norm()) << pass;
-    for (int i = 0; i < c.g.n_nodes; ++i) node_lambda(i) = unit(rng);
-    update_stiffness(as, c.sys, node_lambda);
+    for (int v = 0; v < c.g.n_vertices; ++v) vertex_lambda(v) = unit(rng);
+    update_stiffness(as, c.sys, vertex_lambda);
   }
 }
 

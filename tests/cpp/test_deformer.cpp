@@ -148,6 +148,41 @@ TEST(Deformer, RegionOfInterestLimitsTheActiveTerms) {
     if (!in_roi[v]) EXPECT_EQ(r.positions.row(v), s.mesh.V.row(v));
 }
 
+TEST_P(DeformerBothDomains, ARegionIsSolvedOnItsOwnGraphAsOnTheWholeOne) {
+  // A radius around the handle (painted lambda, a region change, a stiffness change): a fresh
+  // Deformer builds only the region's graph; one whose whole graph was built lays the
+  // region out on that. Both must give the same positions, bit for bit.
+  const auto [domain, lambda] = GetParam();
+  LiftSetup s;
+  Eigen::VectorXd painted(s.mesh.V.rows());
+  for (Eigen::Index v = 0; v < painted.size(); ++v) painted(v) = v % 3 == 0 ? lambda : 0.5 * lambda + 0.25;
+  Deformer on_region(s.mesh.V, s.mesh.F, domain), on_whole(s.mesh.V, s.mesh.F, domain);
+  ASSERT_GT(on_whole.graph().n_nodes, 0);  // builds it
+  RowMatrixX3d targets = s.rows(s.mesh.V, s.high);
+  targets.col(2).array() += 0.1;
+  SolveOptions o;
+  o.max_iterations = 6;
+  o.tolerance = 0.0;
+  for (Deformer* d : {&on_region, &on_whole}) d->set_stiffness(painted);
+  for (double radius : {0.25, 0.4}) {
+    for (Deformer* d : {&on_region, &on_whole}) {
+      ConstraintSets sets{s.high, {}, std::nullopt};
+      sets.roi_radius = radius;
+      d->set_constraints(sets);
+    }
+    const SolveResult a = on_region.solve(targets, o), b = on_whole.solve(targets, o);
+    EXPECT_GT(a.active_nodes, 0);
+    EXPECT_EQ(a.active_nodes, b.active_nodes);
+    EXPECT_EQ(a.positions, b.positions) << "radius " << radius;
+    for (Deformer* d : {&on_region, &on_whole}) d->set_stiffness(std::min(lambda + 0.2, 1.0));
+  }
+  EXPECT_FALSE(on_region.whole_graph_built());
+  EXPECT_EQ(on_region.n_nodes(), on_whole.graph().n_nodes);
+  // Constraints whose region reaches half the faces or more use the whole graph, built then.
+  on_region.set_constraints({s.high, s.low, std::nullopt});
+  EXPECT_TRUE(on_region.whole_graph_built());
+}
+
 TEST(Deformer, InterruptStopsBetweenIterationsAndLeavesItUsable) {
   LiftSetup s;
   Deformer d(s.mesh.V, s.mesh.F, Domain::Edge);

@@ -42,7 +42,7 @@ class FactorCacheTest : public ::testing::TestWithParam<Domain> {};
 
 TEST_P(FactorCacheTest, ARepeatedRequestFactorsOnce) {
   const Grid c(GetParam());
-  const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(c.g.n_nodes, 0.5);
+  const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(c.g.n_vertices, 0.5);
   Caches k;
   auto sys = k.operators.set_system(c.layout(c.whole_sets));
   k.request(sys, lambda);
@@ -55,7 +55,7 @@ TEST_P(FactorCacheTest, ARepeatedRequestFactorsOnce) {
 
 TEST_P(FactorCacheTest, AReleasedGroupSwapsTheBaseFactorBack) {
   const Grid c(GetParam());
-  const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(c.g.n_nodes, 0.5);
+  const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(c.g.n_vertices, 0.5);
   Caches k;
   auto whole = k.operators.set_system(c.layout(c.whole_sets));
   k.request(whole, lambda);
@@ -83,10 +83,10 @@ TEST_P(FactorCacheTest, NewBaseValuesRefactorInsteadOfSwappingAStaleFactor) {
   const Grid c(GetParam());
   Caches k;
   auto whole = k.operators.set_system(c.layout(c.whole_sets));
-  k.request(whole, Eigen::VectorXd::Constant(c.g.n_nodes, 0.5));
+  k.request(whole, Eigen::VectorXd::Constant(c.g.n_vertices, 0.5));
   auto part = k.operators.set_system(c.layout(c.part_sets));
-  k.request(part, Eigen::VectorXd::Constant(c.g.n_nodes, 0.5));
-  const Eigen::VectorXd soft = Eigen::VectorXd::Constant(c.g.n_nodes, 0.3);
+  k.request(part, Eigen::VectorXd::Constant(c.g.n_vertices, 0.5));
+  const Eigen::VectorXd soft = Eigen::VectorXd::Constant(c.g.n_vertices, 0.3);
   k.request(part, soft);  // the base's values change while the group is pinned
   EXPECT_EQ(k.factors.factorizations(), 3);
   whole = k.operators.set_system(c.layout(c.whole_sets));
@@ -100,8 +100,8 @@ TEST_P(FactorCacheTest, EachPatternOfAIsOrderedOnce) {
   const Grid c(GetParam());
   Caches k;
   auto sys = k.operators.set_system(c.layout(c.whole_sets));
-  const Eigen::VectorXd soft = Eigen::VectorXd::Constant(c.g.n_nodes, 0.5);
-  const Eigen::VectorXd rigid = Eigen::VectorXd::Ones(c.g.n_nodes);
+  const Eigen::VectorXd soft = Eigen::VectorXd::Constant(c.g.n_vertices, 0.5);
+  const Eigen::VectorXd rigid = Eigen::VectorXd::Ones(c.g.n_vertices);
   k.request(sys, soft);   // Laplacian pattern: least fill
   k.request(sys, rigid);  // lambda = 1 everywhere: another pattern, ordered once
   EXPECT_EQ(k.factors.orderings(), 2);

@@ -33,7 +33,7 @@ struct GridProblem final : FixedPointProblem {
 
   GridProblem(Domain domain, double lambda) : grid(domain) {
     sys = grid.whole(grid.whole_sets);
-    as = assemble_system(sys, Eigen::VectorXd::Constant(grid.g.n_nodes, lambda));
+    as = assemble_system(sys, Eigen::VectorXd::Constant(grid.g.n_vertices, lambda));
     cholesky.factorize(as.A);
     const int nf = sys.n_free(), nc = sys.n_fixed();
     RowMatrixX3d constrained = grid.mesh.V;

@@ -2,10 +2,13 @@
 #pragma once
 
 #include <cmath>
+#include <algorithm>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "edgedeform/types.h"
 
@@ -64,6 +67,25 @@ inline TestMesh grid_with_fin(int nx, int ny) {
     m.F.row(f0 + 2 * i) << a, b, d;
     m.F.row(f0 + 2 * i + 1) << a, d, c;
   }
+  return m;
+}
+
+// A fin (edges of three faces), shuffled vertex ids, a vertex no face uses, a face given twice.
+inline TestMesh messy_mesh() {
+  TestMesh m = grid_with_fin(7, 6);
+  const int n = static_cast<int>(m.V.rows());
+  std::vector<int> id(static_cast<size_t>(n));
+  for (int v = 0; v < n; ++v) id[static_cast<size_t>(v)] = v;
+  std::shuffle(id.begin(), id.end(), std::mt19937(5));
+  RowMatrixX3d V(n + 1, 3);
+  for (int v = 0; v < n; ++v) V.row(id[static_cast<size_t>(v)]) = m.V.row(v);
+  V.row(n) << 9.0, 9.0, 9.0;  // unreferenced
+  RowMatrixX3i F(m.F.rows() + 1, 3);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) F(f, k) = id[static_cast<size_t>(m.F(f, k))];
+  F.row(m.F.rows()) = F.row(0);
+  m.V = V;
+  m.F = F;
   return m;
 }
 

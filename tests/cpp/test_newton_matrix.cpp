@@ -27,7 +27,7 @@ struct Linearized {
   LocalFit fit;
   Linearized(Domain domain, double lambda) : grid(domain) {
     sys = grid.whole(grid.whole_sets);
-    as = assemble_system(sys, Eigen::VectorXd::Constant(grid.g.n_nodes, lambda));
+    as = assemble_system(sys, Eigen::VectorXd::Constant(grid.g.n_vertices, lambda));
     RowMatrixX3d x_local(sys.n_free() + sys.n_fixed(), 3);
     for (int k = 0; k < sys.n_free() + sys.n_fixed(); ++k) {
       const int v = k < sys.n_free() ? sys.free_vertices[static_cast<size_t>(k)]

@@ -22,7 +22,7 @@ class OperatorCacheTest : public ::testing::TestWithParam<Domain> {};
 
 TEST_P(OperatorCacheTest, ASubsetIsRestrictedInsteadOfReassembled) {
   const Grid c(GetParam());
-  const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(c.g.n_nodes, 0.5);
+  const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(c.g.n_vertices, 0.5);
   OperatorCache cache;
   auto whole = cache.set_system(c.layout(c.whole_sets));
   EXPECT_TRUE(whole->has_jacobians);  // the first set is the base
@@ -51,12 +51,12 @@ TEST_P(OperatorCacheTest, AStiffnessChangeUpdatesTheBaseInPlace) {
   const Grid c(GetParam());
   OperatorCache cache;
   auto sys = cache.set_system(c.layout(c.whole_sets));
-  auto first = cache.operators_for(*sys, Eigen::VectorXd::Constant(c.g.n_nodes, 0.5));
+  auto first = cache.operators_for(*sys, Eigen::VectorXd::Constant(c.g.n_vertices, 0.5));
   const long values = cache.base_values();
-  EXPECT_EQ(cache.operators_for(*sys, Eigen::VectorXd::Constant(c.g.n_nodes, 0.5)), first);
+  EXPECT_EQ(cache.operators_for(*sys, Eigen::VectorXd::Constant(c.g.n_vertices, 0.5)), first);
   EXPECT_EQ(cache.base_values(), values);  // same stiffness: the same values
 
-  const Eigen::VectorXd soft = Eigen::VectorXd::Constant(c.g.n_nodes, 0.2);
+  const Eigen::VectorXd soft = Eigen::VectorXd::Constant(c.g.n_vertices, 0.2);
   auto second = cache.operators_for(*sys, soft);
   EXPECT_EQ(cache.base_values(), values + 1);
   EXPECT_EQ(cache.assemblies(), 1);
@@ -65,7 +65,7 @@ TEST_P(OperatorCacheTest, AStiffnessChangeUpdatesTheBaseInPlace) {
 
 TEST_P(OperatorCacheTest, ASetFreeingMoreBecomesTheBase) {
   const Grid c(GetParam());
-  const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(c.g.n_nodes, 0.5);
+  const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(c.g.n_vertices, 0.5);
   OperatorCache cache;
   auto part = cache.set_system(c.layout(c.part_sets));
   cache.operators_for(*part, lambda);
@@ -82,8 +82,9 @@ TEST_P(OperatorCacheTest, ARigidPartOfASoftBaseIsAssembledOnItsOwn) {
   OperatorCache cache;
   auto whole = cache.set_system(c.layout(c.whole_sets));
   auto part = cache.set_system(c.layout(c.part_sets));
-  Eigen::VectorXd lambda = Eigen::VectorXd::Constant(c.g.n_nodes, 0.5);
-  for (int node : part->term_nodes) lambda(node) = 1.0;
+  Eigen::VectorXd lambda = Eigen::VectorXd::Constant(c.g.n_vertices, 0.5);
+  for (int node : part->term_nodes)  // every vertex of the part's term nodes rigid
+    for (int k = 0; k < 2; ++k) lambda(c.g.node_vertices(node, k)) = 1.0;
   ASSERT_LT(part->term_nodes.size(), whole->term_nodes.size());
   auto ops = cache.operators_for(*part, lambda);
   EXPECT_FALSE(ops->laplacian_term);

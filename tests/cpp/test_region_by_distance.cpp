@@ -77,7 +77,8 @@ TEST(RegionByDistance, AVertexExactlyAtTheRadiusIsInside) {
   test::TestMesh m;
   add_strip(m, 4, 0.0);  // vertex 2 i sits at (i, 0, 0): exactly i from vertex 0
   const RowMatrixX2i E = edges_of(m);
-  const VertexAdjacency A = vertex_adjacency(E, static_cast<int>(m.V.rows()));
+  const MeshIncidence incidence = mesh_incidence(m.F, static_cast<int>(m.V.rows()));
+  const VertexNeighbours A(m.F, incidence);
   for (bool along : {false, true}) {
     const std::vector<int> at = vertices_within_distance(m.V, A, {0}, 2.0, along);
     EXPECT_NE(std::find(at.begin(), at.end(), 4), at.end()) << along;
@@ -94,7 +95,8 @@ TEST(RegionByDistance, AlongTheEdgesStaysOnTheHandlesComponent) {
   add_strip(m, 3, 0.0);
   add_strip(m, 3, 0.5);  // a second component half a unit above the first
   const RowMatrixX2i E = edges_of(m);
-  const VertexAdjacency A = vertex_adjacency(E, static_cast<int>(m.V.rows()));
+  const MeshIncidence incidence = mesh_incidence(m.F, static_cast<int>(m.V.rows()));
+  const VertexNeighbours A(m.F, incidence);
   const std::vector<int> straight = vertices_within_distance(m.V, A, {0}, 0.6, false);
   const std::vector<int> along = vertices_within_distance(m.V, A, {0}, 0.6, true);
   EXPECT_EQ(straight, (std::vector<int>{0, 8}));  // 8 is vertex 0's twin above it
@@ -115,7 +117,8 @@ TEST(RegionByDistance, AlongTheEdgesAroundAUTurn) {
   for (size_t k = 0; k < keep_faces.size(); ++k) F.row(static_cast<Eigen::Index>(k)) = m.F.row(keep_faces[k]);
   m.F = F;
   const RowMatrixX2i E = edges_of(m);
-  const VertexAdjacency A = vertex_adjacency(E, static_cast<int>(m.V.rows()));
+  const MeshIncidence incidence = mesh_incidence(m.F, static_cast<int>(m.V.rows()));
+  const VertexNeighbours A(m.F, incidence);
   const int handle = 0, across = 4 * 5;  // (0, 0) and (0, 4): 4 apart, farther along the U
   const std::vector<int> straight = vertices_within_distance(m.V, A, {handle}, 4.0, false);
   const std::vector<int> along = vertices_within_distance(m.V, A, {handle}, 4.0, true);
@@ -129,7 +132,8 @@ TEST(RegionByDistance, AlongTheEdgesAroundAUTurn) {
 TEST(RegionByDistance, MatchesBruteForce) {
   const test::TestMesh m = test::grid(40, 30, 0.3);
   const RowMatrixX2i E = edges_of(m);
-  const VertexAdjacency A = vertex_adjacency(E, static_cast<int>(m.V.rows()));
+  const MeshIncidence incidence = mesh_incidence(m.F, static_cast<int>(m.V.rows()));
+  const VertexNeighbours A(m.F, incidence);
   std::mt19937 rng(7);
   std::uniform_int_distribution<int> vertex(0, static_cast<int>(m.V.rows()) - 1);
   std::uniform_real_distribution<double> radius(0.01, 0.4);
@@ -145,7 +149,8 @@ TEST(RegionByDistance, MatchesBruteForce) {
 TEST(RegionByDistance, RejectsBadRadiiAndSeeds) {
   const test::TestMesh m = test::grid(4, 4);
   const RowMatrixX2i E = edges_of(m);
-  const VertexAdjacency A = vertex_adjacency(E, static_cast<int>(m.V.rows()));
+  const MeshIncidence incidence = mesh_incidence(m.F, static_cast<int>(m.V.rows()));
+  const VertexNeighbours A(m.F, incidence);
   for (double r : {0.0, -1.0, std::nan(""), std::numeric_limits<double>::infinity()})
     EXPECT_THROW(vertices_within_distance(m.V, A, {0}, r, false), std::invalid_argument) << r;
   EXPECT_THROW(vertices_within_distance(m.V, A, {16}, 1.0, true), std::out_of_range);
@@ -159,10 +164,11 @@ struct Layout {
   EdgeTopology topo = build_edge_topology(mesh.F, static_cast<int>(mesh.V.rows()));
   NodeGraph g = build_node_graph(mesh.V, mesh.F, topo, Domain::Edge, true);
   std::vector<bool> referenced = referenced_vertices(mesh.F, static_cast<int>(mesh.V.rows()));
-  VertexAdjacency adjacency = vertex_adjacency(topo.edges, static_cast<int>(mesh.V.rows()));
+  MeshIncidence incidence = mesh_incidence(mesh.F, static_cast<int>(mesh.V.rows()));
+  VertexNeighbours neighbours() const { return {mesh.F, incidence}; }
 
   ConstrainedSystem layout(const ConstraintSets& sets) const {
-    return constrained_layout(g, mesh.V, adjacency, referenced, sets);
+    return constrained_layout(g, mesh.V, neighbours(), referenced, sets);
   }
 };
 
@@ -179,7 +185,7 @@ TEST(RegionByDistance, RadiusLaysOutAsTheSameRoi) {
     ConstraintSets by_list;
     by_list.handles = by_radius.handles;
     by_list.statics = by_radius.statics;
-    by_list.roi = vertices_within_distance(c.mesh.V, c.adjacency, {40}, 0.3, along);
+    by_list.roi = vertices_within_distance(c.mesh.V, c.neighbours(), {40}, 0.3, along);
     const ConstrainedSystem a = c.layout(by_radius), b = c.layout(by_list);
     EXPECT_EQ(a.free_vertices, b.free_vertices);
     EXPECT_EQ(a.fixed_vertices, b.fixed_vertices);

@@ -119,6 +119,7 @@ TEST(RotationOperator, AssembledOperatorMatchesTheRightSideOfTheEnergy) {
   const test::TestMesh m = test::read_off("cgal_dino.off");
   const int n = static_cast<int>(m.V.rows());
   const EdgeTopology topo = build_edge_topology(m.F, n);
+  const MeshIncidence incidence = mesh_incidence(m.F, n);
   std::mt19937 rng(11);
   for (double floor : {0.0, 0.3})
   for (Domain domain : {Domain::Edge, Domain::Primal}) {
@@ -128,12 +129,12 @@ TEST(RotationOperator, AssembledOperatorMatchesTheRightSideOfTheEnergy) {
       if (m.V(v, 2) < m.V.col(2).minCoeff() + 0.1) sets.statics.push_back(v);
       if (m.V(v, 2) > m.V.col(2).maxCoeff() - 0.1) sets.handles.push_back(v);
     }
-    ConstrainedSystem sys = build_constrained_system(g, m.V, vertex_adjacency(topo.edges, n), referenced_vertices(m.F, n), sets);
+    ConstrainedSystem sys = build_constrained_system(g, m.V, VertexNeighbours(m.F, incidence), referenced_vertices(m.F, n), sets);
     EXPECT_EQ(sys.similarity_floor, similarity_floor(domain));
     sys.similarity_floor = floor;
     const NodeStencil& st = sys.stencil;
     const int T = st.n_terms;
-    AssembledSystem as = assemble_system(sys, random_vector(g.n_nodes, 0.0, 1.0, rng));
+    AssembledSystem as = assemble_system(sys, random_vector(g.n_vertices, 0.0, 1.0, rng));
     const auto R = random_rotations(T, rng);
     const Eigen::VectorXd s = random_vector(T, 0.5, 2.0, rng);
     const Eigen::MatrixXd xc = Eigen::MatrixXd::Random(sys.n_fixed(), 3);
@@ -162,7 +163,7 @@ TEST(RotationOperator, AssembledOperatorMatchesTheRightSideOfTheEnergy) {
       as.H.apply(R, s, c, y);
       EXPECT_LT((y - expected).cwiseAbs().maxCoeff(), 1e-12 * expected.cwiseAbs().maxCoeff())
           << domain_name(domain) << " pass " << pass << " floor " << floor;
-      update_stiffness(as, sys, random_vector(g.n_nodes, 0.0, 1.0, rng));
+      update_stiffness(as, sys, random_vector(g.n_vertices, 0.0, 1.0, rng));
     }
   }
 }

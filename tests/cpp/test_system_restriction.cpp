@@ -63,7 +63,7 @@ TEST_P(Restriction, SlicedOperatorsEqualTheSetsOwnAssembly) {
   EXPECT_TRUE(frees_subset(layout, whole));
   std::mt19937 rng(11);
   for (int pass = 0; pass < 2; ++pass) {  // lambda < 1 somewhere; then lambda = 1 everywhere
-    const Eigen::VectorXd lambda = pass == 0 ? random_lambda(c.g.n_nodes, rng) : Eigen::VectorXd::Ones(c.g.n_nodes);
+    const Eigen::VectorXd lambda = pass == 0 ? random_lambda(c.g.n_vertices, rng) : Eigen::VectorXd::Ones(c.g.n_vertices);
     ASSERT_TRUE(restriction_keeps_pattern(whole, layout, lambda));
     const AssembledSystem sliced = restrict_assembly(assemble_system(whole, lambda), whole, layout, lambda);
     const AssembledSystem expected = assemble_system(own, lambda);
@@ -94,17 +94,17 @@ TEST_P(Restriction, RefusesASetThatFreesMoreOrAnotherStiffness) {
   const auto [domain, with_roi] = GetParam();
   const Case c(domain, with_roi);
   // The roles reversed: the whole set is not within the part.
-  const ConstrainedSystem part = c.part_whole(), whole_layout = constrained_layout(c.g, c.mesh.V, c.adjacency,
+  const ConstrainedSystem part = c.part_whole(), whole_layout = constrained_layout(c.g, c.mesh.V, c.neighbours(),
                                                                                      c.referenced, c.whole_sets);
   EXPECT_FALSE(frees_subset(whole_layout, part));
-  const Eigen::VectorXd half = Eigen::VectorXd::Constant(c.g.n_nodes, 0.5);
+  const Eigen::VectorXd half = Eigen::VectorXd::Constant(c.g.n_vertices, 0.5);
   EXPECT_FALSE(restriction_keeps_pattern(part, whole_layout, half));
   const AssembledSystem part_assembled = assemble_system(part, half);
   EXPECT_THROW(restrict_assembly(part_assembled, part, whole_layout, half), std::logic_error);
   // The right sets, but the whole set's operators hold another lambda.
   const ConstrainedSystem whole = c.whole(), layout = c.part_layout();
   const AssembledSystem whole_assembled = assemble_system(whole, half);
-  EXPECT_THROW(restrict_assembly(whole_assembled, whole, layout, Eigen::VectorXd::Constant(c.g.n_nodes, 0.25)),
+  EXPECT_THROW(restrict_assembly(whole_assembled, whole, layout, Eigen::VectorXd::Constant(c.g.n_vertices, 0.25)),
                std::logic_error);
   // A layout has no J1, J2 to assemble from.
   EXPECT_THROW(assemble_system(layout, half), std::logic_error);
@@ -114,13 +114,16 @@ TEST_P(Restriction, ARigidPartOfASmoothWholeKeepsNoLaplacianPattern) {
   const auto [domain, with_roi] = GetParam();
   const Case c(domain, with_roi);
   const ConstrainedSystem whole = c.whole(), layout = c.part_layout();
-  // lambda = 1 on the part's terms, 0.5 on a term only the whole set has.
-  Eigen::VectorXd lambda = Eigen::VectorXd::Ones(c.g.n_nodes);
-  std::vector<bool> in_part(static_cast<size_t>(c.g.n_nodes), false);
-  for (int i : layout.term_nodes) in_part[static_cast<size_t>(i)] = true;
+  // lambda = 1 on the part's terms, below 1 on a term only the whole set has: a vertex of
+  // that term's node that no node of the part's terms uses is softened.
+  Eigen::VectorXd lambda = Eigen::VectorXd::Ones(c.g.n_vertices);
+  std::vector<bool> in_part(static_cast<size_t>(c.g.n_vertices), false);
+  for (int i : layout.term_nodes)
+    for (int k = 0; k < 2; ++k) in_part[static_cast<size_t>(c.g.node_vertices(i, k))] = true;
   int only_whole = -1;
   for (int i : whole.term_nodes)
-    if (!in_part[static_cast<size_t>(i)]) only_whole = i;
+    for (int k = 0; k < 2; ++k)
+      if (!in_part[static_cast<size_t>(c.g.node_vertices(i, k))]) only_whole = c.g.node_vertices(i, k);
   ASSERT_GE(only_whole, 0);
   lambda(only_whole) = 0.5;
   EXPECT_FALSE(restriction_keeps_pattern(whole, layout, lambda));

@@ -16,8 +16,9 @@
 
 #include "edgedeform/local_step.h"
 #include "edgedeform/node_graph.h"
+#include "edgedeform/region_graph.h"
 #include "edgedeform/rotation_operator.h"
-#include "edgedeform/vertex_adjacency.h"
+#include "edgedeform/mesh_incidence.h"
 
 namespace edgedeform {
 
@@ -58,17 +59,35 @@ struct ConstrainedSystem {
   int n_terms() const { return stencil.n_terms; }
 };
 
+// What constraint sets make of each vertex.
+enum VertexRole : char { kFree = 0, kHandle = 1, kAtRest = 2 };
+
+struct VertexRoles {
+  std::vector<VertexRole> role;    // #V
+  std::vector<int> free_vertices;  // ascending
+  std::vector<std::string> warnings;
+};
+
+// The roles under `sets`: validated first (std::invalid_argument / std::out_of_range for bad
+// sets), the region picked, free components that touch no constraint left at rest.
+VertexRoles vertex_roles(const RowMatrixX3d& rest, const VertexNeighbours& neighbours, const std::vector<bool>& referenced,
+                         const ConstraintSets& sets);
+
+// Everything but J1, J2: local ids, active terms, stencil, on a graph part that holds every
+// arc of the terms the free vertices need (the whole graph, or region_graph of faces_around
+// the free vertices).
+ConstrainedSystem layout_on(const GraphPart& part, VertexRoles roles, const ConstraintSets& sets);
+
 // Throws std::invalid_argument / std::out_of_range for bad constraint sets.
 // = constrained_layout, then add_jacobians.
 ConstrainedSystem build_constrained_system(const NodeGraph& graph, const RowMatrixX3d& rest,
-                                           const VertexAdjacency& adjacency,
+                                           const VertexNeighbours& neighbours,
                                            const std::vector<bool>& referenced,
                                            const ConstraintSets& sets);
 
-// Everything but J1, J2: vertex roles, local ids, active terms, stencil, warnings. Throws
-// like build_constrained_system.
+// vertex_roles, then layout_on the whole graph. Throws like build_constrained_system.
 ConstrainedSystem constrained_layout(const NodeGraph& graph, const RowMatrixX3d& rest,
-                                     const VertexAdjacency& adjacency, const std::vector<bool>& referenced,
+                                     const VertexNeighbours& neighbours, const std::vector<bool>& referenced,
                                      const ConstraintSets& sets);
 
 // Positions of the stencil nodes (#stencil nodes x 3) from local vertex positions
@@ -96,7 +115,7 @@ struct AssembledSystem {
   bool laplacian_term = false;    // some term has lambda < 1
 };
 
-AssembledSystem assemble_system(const ConstrainedSystem& system, const Eigen::VectorXd& node_lambda);
+AssembledSystem assemble_system(const ConstrainedSystem& system, const Eigen::VectorXd& vertex_lambda);
 
 // The right-hand-side operator of `system` (lambda-free; every term's lambda is 1).
 // assemble_system, rotation_operator and update_stiffness need the system's J1, J2 (else
@@ -106,15 +125,20 @@ RotationOperator rotation_operator(const ConstrainedSystem& system);
 // The same system at other stiffness: A, K_fixed and the operator's per-term lambda are
 // replaced; H's coefficients and the pattern of A (for lambda < 1 somewhere) stay.
 void update_stiffness(AssembledSystem& assembled, const ConstrainedSystem& system,
-                      const Eigen::VectorXd& node_lambda);
+                      const Eigen::VectorXd& vertex_lambda);
 
-// term_lambda, laplacian_term and the operator's per-term lambda from node_lambda (#nodes).
+// Lambda of each term: its node's, the mean of the node's two vertices' (node_stiffness for the
+// terms alone). vertex_lambda has one value per mesh vertex (else std::logic_error), as in
+// every call below that takes it.
+Eigen::VectorXd term_stiffness(const ConstrainedSystem& system, const Eigen::VectorXd& vertex_lambda);
+
+// term_lambda, laplacian_term and the operator's per-term lambda from vertex_lambda.
 void set_term_stiffness(AssembledSystem& assembled, const ConstrainedSystem& system,
-                        const Eigen::VectorXd& node_lambda);
+                        const Eigen::VectorXd& vertex_lambda);
 
-// Whether `assembled` (of `system`) holds node_lambda's stiffness on every term.
+// Whether `assembled` (of `system`) holds vertex_lambda's stiffness on every term.
 bool assembled_at(const AssembledSystem& assembled, const ConstrainedSystem& system,
-                  const Eigen::VectorXd& node_lambda);
+                  const Eigen::VectorXd& vertex_lambda);
 
 
 }  // namespace edgedeform

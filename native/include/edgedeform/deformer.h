@@ -15,6 +15,7 @@
 
 #include "edgedeform/constrained_system.h"
 #include "edgedeform/edge_topology.h"
+#include "edgedeform/mesh_incidence.h"
 #include "edgedeform/factor_cache.h"
 #include "edgedeform/iteration_state.h"
 #include "edgedeform/newton_factor.h"
@@ -24,7 +25,6 @@
 #include "edgedeform/solve_types.h"
 #include "edgedeform/sparse_cholesky.h"
 #include "edgedeform/stiffness.h"
-#include "edgedeform/vertex_adjacency.h"
 #include "edgedeform/warm_state.h"
 
 namespace edgedeform {
@@ -68,13 +68,21 @@ class Deformer {
 
   int n_vertices() const { return static_cast<int>(rest_.rows()); }
   int n_faces() const { return static_cast<int>(faces_.rows()); }
-  Domain domain() const { return graph_.domain; }
+  int n_nodes() const { return domain_ == Domain::Edge ? incidence_.n_edges() : n_vertices(); }
+  Domain domain() const { return domain_; }
   const RowMatrixX3d& rest() const { return rest_; }
   const RowMatrixX3i& faces() const { return faces_; }
-  const EdgeTopology& topology() const { return topology_; }
-  const VertexAdjacency& adjacency() const { return adjacency_; }
-  const NodeGraph& graph() const { return graph_; }
-  const Eigen::VectorXd& node_lambda() const { return node_lambda_; }
+  // Who neighbours whom, through the faces around each vertex (valid while the Deformer lives).
+  VertexNeighbours neighbours() const { return {faces_, incidence_}; }
+  // The whole mesh's topology and node graph, built on first use: a solve over a region
+  // builds only the region's part (region_graph.h), so these cost memory only when asked for
+  // (inspection, energy()) or when a set of constraints reaches half the mesh or more.
+  const EdgeTopology& topology() const { return whole().topology; }
+  const NodeGraph& graph() const { return whole().graph; }
+  // Lambda per node under the current stiffness (#nodes).
+  Eigen::VectorXd node_lambda() const;
+  // Whether the whole graph was built (tests: a region's solve must not need it).
+  bool whole_graph_built() const { return has_whole(); }
   const Eigen::VectorXd& vertex_lambda() const { return vertex_lambda_; }
   int analyses() const { return factors_.analyses(); }
   int orderings() const { return factors_.orderings(); }
@@ -105,17 +113,26 @@ class Deformer {
   // One local step on free positions y (fixed rows of x_local already set).
   void local_step(const Eigen::MatrixXd& y, RowMatrixX3d& x_local, LocalFit& fit, SolveResult& result);
 
+  struct WholeGraph {
+    EdgeTopology topology;
+    NodeGraph graph;
+  };
+  const WholeGraph& whole() const;
+  bool has_whole() const;  // whole_ is built
+  // The graph part the layout of `roles` needs: the whole graph when built or when the region
+  // reaches half the faces or more, else the region's own.
+  ConstrainedSystem layout(VertexRoles roles, const ConstraintSets& sets) const;
+
   RowMatrixX3d rest_;
   RowMatrixX3i faces_;
-  EdgeTopology topology_;
-  VertexAdjacency adjacency_;  // of topology_'s edges: the region and component walks
-  NodeGraph graph_;
+  Domain domain_;
+  bool clamp_negative_weights_;
+  MeshIncidence incidence_;  // faces per vertex, edge numbers: what regions and walks are built from
   std::vector<bool> referenced_;
   SafeRange safe_range_;  // targets and initial positions are checked against it
   SeamCopies seams_;      // coincident vertices: a solve that tears them apart warns
   double seam_tolerance_ = 0.0;  // 1e-6 of the bounding-box diagonal: a visible gap
   Eigen::VectorXd vertex_lambda_;
-  Eigen::VectorXd node_lambda_;
   std::shared_ptr<const ConstrainedSystem> system_;
   std::shared_ptr<const AssembledSystem> assembled_;  // null when the constraints changed
   bool stiffness_changed_ = false;              // assembled_ holds another lambda
@@ -129,6 +146,8 @@ class Deformer {
   std::vector<double> rhs_term_weights_;  // RotationOperator::apply scratch
   RowMatrixX3d node_positions_;    // local-step scratch
   mutable std::unique_ptr<NodeStencil> full_stencil_;  // for energy(), built on first use
+  mutable std::unique_ptr<const WholeGraph> whole_;     // built on first use, then never changed
+  mutable std::mutex whole_mutex_;                      // guards building whole_; taken after mutex_
   // The bindings release the GIL: two Python threads sharing a Deformer take turns here.
   mutable std::mutex mutex_;
 };

@@ -24,10 +24,10 @@ class OperatorCache {
   // the set as kept. Changes nothing if it throws.
   std::shared_ptr<const ConstrainedSystem> set_system(ConstrainedSystem layout);
 
-  // The operators of `system` (the set returned by the last set_system) at node_lambda
+  // The operators of `system` (the set returned by the last set_system) at vertex_lambda
   // (#nodes): the base set's, or restricted from them. Throws like assemble_system.
   std::shared_ptr<const AssembledSystem> operators_for(const ConstrainedSystem& system,
-                                                       const Eigen::VectorXd& node_lambda);
+                                                       const Eigen::VectorXd& vertex_lambda);
 
   // Whether `assembled` is the base set's operators (not a restriction).
   bool is_base(const std::shared_ptr<const AssembledSystem>& assembled) const {

@@ -6,16 +6,16 @@
 #include <vector>
 
 #include "edgedeform/types.h"
-#include "edgedeform/vertex_adjacency.h"
+#include "edgedeform/mesh_incidence.h"
 
 namespace edgedeform {
 
 // Vertices v (ascending ids) with distance(v, seeds) <= radius, measured in V (#V x 3):
 // Euclidean |V(v) - V(s)| (compared squared), or with `along_edges` the shortest path over
-// the mesh edges (`adjacency`), each edge as long as its straight segment. The seeds are inside (0).
+// the mesh edges (`neighbours`), each edge as long as its straight segment. The seeds are inside (0).
 // Throws std::invalid_argument unless radius is finite and > 0, std::out_of_range for a seed
 // that is not a vertex.
-std::vector<int> vertices_within_distance(const RowMatrixX3d& V, const VertexAdjacency& adjacency,
+std::vector<int> vertices_within_distance(const RowMatrixX3d& V, const VertexNeighbours& neighbours,
                                           const std::vector<int>& seeds, double radius, bool along_edges);
 
 }  // namespace edgedeform

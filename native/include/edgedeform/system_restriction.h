@@ -18,18 +18,18 @@ namespace edgedeform {
 // Whether every free vertex of `part` is free in `whole` (the same mesh).
 bool frees_subset(const ConstrainedSystem& part, const ConstrainedSystem& whole);
 
-// Whether restrict_assembly gives `part` the sparsity of its own assembly at node_lambda:
+// Whether restrict_assembly gives `part` the sparsity of its own assembly at vertex_lambda:
 // frees_subset, and the Laplacian term present in both or in neither (with lambda = 1 on
 // all of part's terms but not on whole's, A_whole[F, F] would carry the Laplacian's
 // pattern as explicit zeros, and its factor the fill of a pattern part does not have).
 bool restriction_keeps_pattern(const ConstrainedSystem& whole, const ConstrainedSystem& part,
-                               const Eigen::VectorXd& node_lambda);
+                               const Eigen::VectorXd& vertex_lambda);
 
-// The operators of `part` (a layout: no J1, J2 needed) at node_lambda (#nodes), taken from
-// `whole_assembled`, which must be `whole`'s at the same node_lambda (std::logic_error
+// The operators of `part` (a layout: no J1, J2 needed) at vertex_lambda (#V), taken from
+// `whole_assembled`, which must be `whole`'s at the same vertex_lambda (std::logic_error
 // otherwise, or when part frees a vertex whole does not). Equal to assemble_system(part)
 // up to the order of floating-point sums.
 AssembledSystem restrict_assembly(const AssembledSystem& whole_assembled, const ConstrainedSystem& whole,
-                                  const ConstrainedSystem& part, const Eigen::VectorXd& node_lambda);
+                                  const ConstrainedSystem& part, const Eigen::VectorXd& vertex_lambda);
 
 }  // namespace edgedeform

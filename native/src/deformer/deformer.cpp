@@ -9,9 +9,11 @@
 
 #include <Eigen/Geometry>
 
+#include "edgedeform/cotangent.h"
 #include "edgedeform/errors.h"
 #include "edgedeform/local_fit_derivative.h"
 #include "edgedeform/mesh_checks.h"
+#include "edgedeform/region_graph.h"
 #include "edgedeform/stiffness.h"
 
 namespace edgedeform {
@@ -47,25 +49,37 @@ void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX
   }
 }
 
+// Sum over every corner of |1/2 cot|: at least the sum of |arc weight| over the graph of either
+// domain (an arc adds up its corners), so the safe range it gives is no wider than the graph's,
+// and it needs no graph.
+double total_corner_weight(const RowMatrixX3d& V, const RowMatrixX3i& F) {
+  double total = 0.0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d a = V.row(F(f, k)).transpose();
+      total += std::abs(0.5 * safe_cotangent(V.row(F(f, (k + 1) % 3)).transpose() - a,
+                                             V.row(F(f, (k + 2) % 3)).transpose() - a));
+    }
+  return total;
+}
+
 }  // namespace
 
-Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, bool clamp_negative_weights) {
+Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, bool clamp_negative_weights)
+    : domain_(domain), clamp_negative_weights_(clamp_negative_weights) {
   check_mesh(V, F);
   safe_range_.center = 0.5 * (V.colwise().minCoeff() + V.colwise().maxCoeff());
   check_distance(V, safe_range_.center, largest_safe_distance(1.0), "V");  // before any products
   check_geometry(V, F);
   rest_ = V;
   faces_ = F;
-  topology_ = build_edge_topology(F, static_cast<int>(V.rows()));
-  adjacency_ = vertex_adjacency(topology_.edges, static_cast<int>(V.rows()));
-  graph_ = build_node_graph(V, F, topology_, domain, clamp_negative_weights);
-  safe_range_.limit = largest_safe_distance(graph_.arc_weights.cwiseAbs().sum());
+  incidence_ = mesh_incidence(F, static_cast<int>(V.rows()));
+  safe_range_.limit = largest_safe_distance(total_corner_weight(V, F));
   check_distance(V, safe_range_.center, safe_range_.limit, "V");
   referenced_ = referenced_vertices(F, static_cast<int>(V.rows()));
   seams_ = find_seam_copies(V, F);
   seam_tolerance_ = 1e-6 * (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
   vertex_lambda_ = Eigen::VectorXd::Constant(V.rows(), 0.5);
-  node_lambda_ = node_stiffness(graph_, vertex_lambda_);
   // Over the vertices the faces use: stray vertices never move and should not set the scale.
   Eigen::RowVector3d lo = Eigen::RowVector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (Eigen::Index v = 0; v < V.rows(); ++v)
@@ -80,8 +94,8 @@ Deformer::Deformer(const RowMatrixX3d& V, const RowMatrixX3i& F, Domain domain, 
 void Deformer::set_constraints(const ConstraintSets& sets) {
   std::lock_guard<std::mutex> lock(mutex_);
   // The layout validates the sets before anything changes.
-  ConstrainedSystem layout = constrained_layout(graph_, rest_, adjacency_, referenced_, sets);
-  std::shared_ptr<const ConstrainedSystem> system = operators_.set_system(std::move(layout));
+  std::shared_ptr<const ConstrainedSystem> system =
+      operators_.set_system(layout(vertex_roles(rest_, neighbours(), referenced_, sets), sets));
   if (system_) warm_.keep_per_node(system_->term_nodes);  // while the old terms are known
   system_ = std::move(system);
   assembled_.reset();
@@ -97,10 +111,8 @@ void Deformer::set_stiffness(double lambda) {
 void Deformer::set_stiffness(const Eigen::VectorXd& vertex_lambda) {
   std::lock_guard<std::mutex> lock(mutex_);
   check_stiffness(vertex_lambda, n_vertices());
-  Eigen::VectorXd node = node_stiffness(graph_, vertex_lambda);
+  if (vertex_lambda == vertex_lambda_) return;  // the same system: keep the factorization
   vertex_lambda_ = vertex_lambda;
-  if (node == node_lambda_) return;  // the same system: keep the factorization
-  node_lambda_ = std::move(node);
   stiffness_changed_ = true;
 }
 
@@ -108,7 +120,7 @@ void Deformer::ensure_factored(SolveResult& result) {
   if (assembled_ && !stiffness_changed_) return;
   const auto start = Clock::now();
   assembled_.reset();  // kept only once factored
-  std::shared_ptr<const AssembledSystem> assembled = operators_.operators_for(*system_, node_lambda_);
+  std::shared_ptr<const AssembledSystem> assembled = operators_.operators_for(*system_, vertex_lambda_);
   if (system_->n_free() > 0)
     factors_.factor_for(*system_, *assembled, operators_.is_base(assembled), operators_.base_values());
   assembled_ = std::move(assembled);
@@ -272,15 +284,52 @@ double Deformer::energy(const RowMatrixX3d& X) const {
   if (X.rows() != rest_.rows())
     throw std::invalid_argument("X has " + std::to_string(X.rows()) + " rows, expected " + std::to_string(rest_.rows()));
   check_finite(X, "X");
+  const NodeGraph& graph = whole().graph;
   if (!full_stencil_) {
-    std::vector<int> all(static_cast<size_t>(graph_.n_nodes));
-    for (int i = 0; i < graph_.n_nodes; ++i) all[static_cast<size_t>(i)] = i;
-    full_stencil_ = std::make_unique<NodeStencil>(build_stencil(graph_, rest_, all, all));
+    std::vector<int> all(static_cast<size_t>(graph.n_nodes));
+    for (int i = 0; i < graph.n_nodes; ++i) all[static_cast<size_t>(i)] = i;
+    full_stencil_ = std::make_unique<NodeStencil>(build_stencil(graph, rest_, all, all));
   }
+  const Eigen::VectorXd node_lambda = node_stiffness(graph, vertex_lambda_);
   LocalFit fit;
-  fit_local(*full_stencil_, graph_.node_positions(X), node_lambda_, fit,
-            similarity_share(node_lambda_, similarity_floor(graph_.domain)));
+  fit_local(*full_stencil_, graph.node_positions(X), node_lambda, fit,
+            similarity_share(node_lambda, similarity_floor(domain_)));
   return fit.energy;
+}
+
+Eigen::VectorXd Deformer::node_lambda() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return node_stiffness(whole().graph, vertex_lambda_);
+}
+
+const Deformer::WholeGraph& Deformer::whole() const {
+  std::lock_guard<std::mutex> lock(whole_mutex_);
+  if (!whole_) {
+    auto built = std::make_unique<WholeGraph>();
+    built->topology = build_edge_topology(faces_, n_vertices());
+    built->graph = build_node_graph(rest_, faces_, built->topology, domain_, clamp_negative_weights_);
+    whole_ = std::move(built);
+  }
+  return *whole_;
+}
+
+bool Deformer::has_whole() const {
+  std::lock_guard<std::mutex> lock(whole_mutex_);
+  return whole_ != nullptr;
+}
+
+ConstrainedSystem Deformer::layout(VertexRoles roles, const ConstraintSets& sets) const {
+  if (!has_whole()) {
+    // A region of half the mesh or more builds the whole graph once and keeps it, as the
+    // whole mesh's constraints do: no more memory than twice its own part, and no graph
+    // rebuilt at every set_constraints.
+    const std::vector<int> faces = faces_around(neighbours(), roles.free_vertices);
+    if (2 * static_cast<Eigen::Index>(faces.size()) < faces_.rows()) {
+      const RegionGraph region = region_graph(rest_, neighbours(), faces, domain_, clamp_negative_weights_);
+      return layout_on(region.part(), std::move(roles), sets);
+    }
+  }
+  return layout_on(GraphPart{&whole().graph, &rest_}, std::move(roles), sets);
 }
 
 }  // namespace edgedeform

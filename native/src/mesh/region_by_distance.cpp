@@ -11,7 +11,6 @@
 #include <utility>
 
 #include "edgedeform/parallel.h"
-#include "edgedeform/vertex_adjacency.h"
 
 namespace edgedeform {
 
@@ -119,11 +118,9 @@ std::vector<int> within_straight_line(const RowMatrixX3d& V, const std::vector<i
 
 // Multi-source Dijkstra that never queues a vertex beyond the radius: its cost grows with
 // the region, apart from the distance array over the whole mesh.
-std::vector<int> within_along_edges(const RowMatrixX3d& V, const VertexAdjacency& adjacency,
+std::vector<int> within_along_edges(const RowMatrixX3d& V, const VertexNeighbours& neighbours,
                                     const std::vector<int>& seeds, double radius) {
   const int n = static_cast<int>(V.rows());
-  const std::vector<int>& offsets = adjacency.offsets;
-  const std::vector<int>& adj = adjacency.neighbours;
   std::vector<double> dist(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
   using Entry = std::pair<double, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
@@ -138,14 +135,13 @@ std::vector<int> within_along_edges(const RowMatrixX3d& V, const VertexAdjacency
     queue.pop();
     if (d > dist[static_cast<size_t>(v)]) continue;  // a stale entry
     region.push_back(v);
-    for (int k = offsets[static_cast<size_t>(v)]; k < offsets[static_cast<size_t>(v) + 1]; ++k) {
-      const int u = adj[static_cast<size_t>(k)];
+    neighbours.for_each(v, [&, d = d, v = v](int u) {  // twice across an interior edge: the second is no shorter
       const double du = d + (V.row(u) - V.row(v)).norm();
       if (du <= radius && du < dist[static_cast<size_t>(u)]) {
         dist[static_cast<size_t>(u)] = du;
         queue.emplace(du, u);
       }
-    }
+    });
   }
   std::sort(region.begin(), region.end());
   return region;
@@ -153,7 +149,7 @@ std::vector<int> within_along_edges(const RowMatrixX3d& V, const VertexAdjacency
 
 }  // namespace
 
-std::vector<int> vertices_within_distance(const RowMatrixX3d& V, const VertexAdjacency& adjacency,
+std::vector<int> vertices_within_distance(const RowMatrixX3d& V, const VertexNeighbours& neighbours,
                                           const std::vector<int>& seeds, double radius, bool along_edges) {
   if (!(std::isfinite(radius) && radius > 0.0)) {
     std::ostringstream msg;
@@ -161,14 +157,14 @@ std::vector<int> vertices_within_distance(const RowMatrixX3d& V, const VertexAdj
     throw std::invalid_argument(msg.str());
   }
   const int n = static_cast<int>(V.rows());
-  if (along_edges && adjacency.n_vertices() != n)
-    throw std::invalid_argument("the adjacency has " + std::to_string(adjacency.n_vertices()) + " vertices, V has " +
+  if (along_edges && neighbours.n_vertices() != n)
+    throw std::invalid_argument("the mesh incidence has " + std::to_string(neighbours.n_vertices()) + " vertices, V has " +
                                 std::to_string(n));
   for (int s : seeds)
     if (s < 0 || s >= n)
       throw std::out_of_range("seed vertex " + std::to_string(s) + " is out of range [0, " + std::to_string(n) + ")");
   if (seeds.empty()) return {};
-  return along_edges ? within_along_edges(V, adjacency, seeds, radius) : within_straight_line(V, seeds, radius);
+  return along_edges ? within_along_edges(V, neighbours, seeds, radius) : within_straight_line(V, seeds, radius);
 }
 
 }  // namespace edgedeform

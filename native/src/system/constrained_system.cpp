@@ -12,20 +12,15 @@
 
 #include "edgedeform/mesh_checks.h"
 #include "edgedeform/region_by_distance.h"
-#include "edgedeform/vertex_adjacency.h"
 
 namespace edgedeform {
 
 namespace {
 
-enum Role : char { kFree = 0, kHandle = 1, kAtRest = 2 };
-
 // Free components that touch no constrained vertex have nothing to hold them: they stay at
 // rest (their system would be singular). Returns how many vertices were pinned that way.
-int pin_unanchored_components(const VertexAdjacency& adjacency, std::vector<Role>& role, int& n_components) {
+int pin_unanchored_components(const VertexNeighbours& neighbours, std::vector<VertexRole>& role, int& n_components) {
   const int n = static_cast<int>(role.size());
-  const std::vector<int>& offsets = adjacency.offsets;
-  const std::vector<int>& adj = adjacency.neighbours;
   std::vector<int> component(static_cast<size_t>(n), -1);
   int pinned = 0;
   n_components = 0;
@@ -40,15 +35,14 @@ int pin_unanchored_components(const VertexAdjacency& adjacency, std::vector<Role
       const int v = queue.front();
       queue.pop_front();
       members.push_back(v);
-      for (int k = offsets[static_cast<size_t>(v)]; k < offsets[static_cast<size_t>(v) + 1]; ++k) {
-        const int u = adj[static_cast<size_t>(k)];
+      neighbours.for_each(v, [&](int u) {
         if (role[static_cast<size_t>(u)] != kFree) {
           anchored = true;
         } else if (component[static_cast<size_t>(u)] < 0) {
           component[static_cast<size_t>(u)] = seed;
           queue.push_back(u);
         }
-      }
+      });
     }
     if (!anchored) {
       for (int v : members) role[static_cast<size_t>(v)] = kAtRest;
@@ -62,7 +56,7 @@ int pin_unanchored_components(const VertexAdjacency& adjacency, std::vector<Role
 // The region of interest as a list: sets.roi, or the vertices within sets.roi_radius of a
 // handle. Either way the roles below come from one list, so a radius and the region it
 // picks, given as roi, are the same problem bit for bit.
-std::optional<std::vector<int>> region_of_interest(const RowMatrixX3d& rest, const VertexAdjacency& adjacency,
+std::optional<std::vector<int>> region_of_interest(const RowMatrixX3d& rest, const VertexNeighbours& neighbours,
                                                    const ConstraintSets& sets) {
   if (sets.roi_radius && sets.roi)
     throw std::invalid_argument("roi and roi_radius both given: pass the region as one or the other");
@@ -75,18 +69,18 @@ std::optional<std::vector<int>> region_of_interest(const RowMatrixX3d& rest, con
     check_index_set(*sets.roi_from, static_cast<int>(rest.rows()), "roi_from");
     if (sets.roi_from->empty()) throw std::invalid_argument("roi_from is empty: give the vertices to measure from, or None");
   }
-  return vertices_within_distance(rest, adjacency, sets.roi_from ? *sets.roi_from : sets.handles, *sets.roi_radius,
+  return vertices_within_distance(rest, neighbours, sets.roi_from ? *sets.roi_from : sets.handles, *sets.roi_radius,
                                   sets.roi_connected);
 }
 
-std::vector<Role> vertex_roles(int n, const std::vector<bool>& referenced, const RowMatrixX3d& rest,
-                               const VertexAdjacency& adjacency, const ConstraintSets& sets,
-                               std::vector<std::string>& warnings) {
+std::vector<VertexRole> checked_roles(int n, const std::vector<bool>& referenced, const RowMatrixX3d& rest,
+                                      const VertexNeighbours& neighbours, const ConstraintSets& sets,
+                                      std::vector<std::string>& warnings) {
   check_index_set(sets.handles, n, "handles");
   check_index_set(sets.statics, n, "static");
   if (sets.handles.empty()) throw std::invalid_argument("handles is empty: at least one handle vertex is needed");
-  const std::optional<std::vector<int>> roi = region_of_interest(rest, adjacency, sets);
-  std::vector<Role> role(static_cast<size_t>(n), kFree);
+  const std::optional<std::vector<int>> roi = region_of_interest(rest, neighbours, sets);
+  std::vector<VertexRole> role(static_cast<size_t>(n), kFree);
   for (int v : sets.handles) role[static_cast<size_t>(v)] = kHandle;
   for (int v : sets.statics) {
     if (role[static_cast<size_t>(v)] == kHandle)
@@ -128,43 +122,58 @@ void require_jacobians(const ConstrainedSystem& sys) {
 }  // namespace
 
 ConstrainedSystem build_constrained_system(const NodeGraph& g, const RowMatrixX3d& rest,
-                                           const VertexAdjacency& adjacency, const std::vector<bool>& referenced,
+                                           const VertexNeighbours& neighbours, const std::vector<bool>& referenced,
                                            const ConstraintSets& sets) {
-  ConstrainedSystem sys = constrained_layout(g, rest, adjacency, referenced, sets);
+  ConstrainedSystem sys = constrained_layout(g, rest, neighbours, referenced, sets);
   add_jacobians(sys);
   return sys;
 }
 
-ConstrainedSystem constrained_layout(const NodeGraph& g, const RowMatrixX3d& rest, const VertexAdjacency& adjacency,
+ConstrainedSystem constrained_layout(const NodeGraph& g, const RowMatrixX3d& rest, const VertexNeighbours& neighbours,
                                      const std::vector<bool>& referenced, const ConstraintSets& sets) {
-  if (adjacency.n_vertices() != g.n_vertices)
-    throw std::logic_error("constrained_layout: the adjacency and the graph have different vertex counts");
-  ConstrainedSystem sys;
-  const int n = g.n_vertices;
-  sys.n_vertices = n;
-  sys.similarity_floor = similarity_floor(g.domain);
-  std::vector<Role> role = vertex_roles(n, referenced, rest, adjacency, sets, sys.warnings);
+  if (neighbours.n_vertices() != g.n_vertices)
+    throw std::logic_error("constrained_layout: the mesh incidence and the graph have different vertex counts");
+  return layout_on(GraphPart{&g, &rest}, vertex_roles(rest, neighbours, referenced, sets), sets);
+}
+
+VertexRoles vertex_roles(const RowMatrixX3d& rest, const VertexNeighbours& neighbours, const std::vector<bool>& referenced,
+                         const ConstraintSets& sets) {
+  VertexRoles out;
+  const int n = static_cast<int>(rest.rows());
+  out.role = checked_roles(n, referenced, rest, neighbours, sets, out.warnings);
   int n_components = 0;
-  const int pinned = pin_unanchored_components(adjacency, role, n_components);
-  if (sets.roi_radius && std::find(role.begin(), role.end(), kFree) == role.end())
+  const int pinned = pin_unanchored_components(neighbours, out.role, n_components);
+  if (sets.roi_radius && std::find(out.role.begin(), out.role.end(), kFree) == out.role.end())
     throw std::invalid_argument(no_free_vertex_message(sets));
   if (pinned > 0)
-    sys.warnings.push_back(std::to_string(pinned) + " free vertices in " + std::to_string(n_components) +
+    out.warnings.push_back(std::to_string(pinned) + " free vertices in " + std::to_string(n_components) +
                            " component(s) touch no handle or static vertex and stay at rest");
+  for (int v = 0; v < n; ++v)
+    if (out.role[static_cast<size_t>(v)] == kFree) out.free_vertices.push_back(v);
+  return out;
+}
+
+ConstrainedSystem layout_on(const GraphPart& part, VertexRoles roles, const ConstraintSets& sets) {
+  const NodeGraph& g = *part.graph;
+  const std::vector<VertexRole>& role = roles.role;
+  ConstrainedSystem sys;
+  const int n = static_cast<int>(role.size());
+  sys.n_vertices = n;
+  sys.similarity_floor = similarity_floor(g.domain);
+  sys.warnings = std::move(roles.warnings);
   sys.handles = sets.handles;
 
   // Local vertex ids: free vertices first, then the fixed ones the terms touch.
   std::vector<int> local(static_cast<size_t>(n), -1);
-  for (int v = 0; v < n; ++v)
-    if (role[static_cast<size_t>(v)] == kFree) {
-      local[static_cast<size_t>(v)] = static_cast<int>(sys.free_vertices.size());
-      sys.free_vertices.push_back(v);
-    }
+  sys.free_vertices = std::move(roles.free_vertices);
+  for (size_t k = 0; k < sys.free_vertices.size(); ++k) local[static_cast<size_t>(sys.free_vertices[k])] = static_cast<int>(k);
   const int nf = sys.n_free();
 
-  // Active terms: nodes whose own or neighbours' positions depend on a free vertex.
+  // Active terms: nodes whose own or neighbours' positions depend on a free vertex. Node ids
+  // below are the part's; the system keeps the mesh's.
   auto node_has_free = [&](int i) {
-    return role[static_cast<size_t>(g.node_vertices(i, 0))] == kFree || role[static_cast<size_t>(g.node_vertices(i, 1))] == kFree;
+    return role[static_cast<size_t>(part.mesh_vertex(g.node_vertices(i, 0)))] == kFree ||
+           role[static_cast<size_t>(part.mesh_vertex(g.node_vertices(i, 1)))] == kFree;
   };
   std::vector<char> touches(static_cast<size_t>(g.n_nodes), 0);
   for (int i = 0; i < g.n_nodes; ++i) {
@@ -173,36 +182,37 @@ ConstrainedSystem constrained_layout(const NodeGraph& g, const RowMatrixX3d& res
     for (int k = g.offsets[static_cast<size_t>(i)]; k < g.offsets[static_cast<size_t>(i) + 1]; ++k)
       touches[static_cast<size_t>(g.adjacency[static_cast<size_t>(k)])] = 1;
   }
-  std::vector<int> stencil_index(static_cast<size_t>(g.n_nodes), -1);
+  std::vector<int> stencil_index(static_cast<size_t>(g.n_nodes), -1), part_terms, part_stencil;
   for (int i = 0; i < g.n_nodes; ++i)
     if (touches[static_cast<size_t>(i)]) {
-      stencil_index[static_cast<size_t>(i)] = static_cast<int>(sys.term_nodes.size());
-      sys.term_nodes.push_back(i);
+      stencil_index[static_cast<size_t>(i)] = static_cast<int>(part_terms.size());
+      part_terms.push_back(i);
     }
-  sys.stencil_nodes = sys.term_nodes;
-  for (int i : sys.term_nodes)
+  part_stencil = part_terms;
+  for (int i : part_terms)
     for (int k = g.offsets[static_cast<size_t>(i)]; k < g.offsets[static_cast<size_t>(i) + 1]; ++k) {
       const int j = g.adjacency[static_cast<size_t>(k)];
       if (stencil_index[static_cast<size_t>(j)] < 0) {
-        stencil_index[static_cast<size_t>(j)] = static_cast<int>(sys.stencil_nodes.size());
-        sys.stencil_nodes.push_back(j);
+        stencil_index[static_cast<size_t>(j)] = static_cast<int>(part_stencil.size());
+        part_stencil.push_back(j);
       }
     }
-  const int n_stencil = static_cast<int>(sys.stencil_nodes.size());
+  const int n_stencil = static_cast<int>(part_stencil.size());
   sys.stencil_node_vertices.resize(n_stencil, 2);
   for (int s = 0; s < n_stencil; ++s)
     for (int c = 0; c < 2; ++c) {
-      const int v = g.node_vertices(sys.stencil_nodes[static_cast<size_t>(s)], c);
+      const int v = part.mesh_vertex(g.node_vertices(part_stencil[static_cast<size_t>(s)], c));
       if (local[static_cast<size_t>(v)] < 0) {
         local[static_cast<size_t>(v)] = nf + static_cast<int>(sys.fixed_vertices.size());
         sys.fixed_vertices.push_back(v);
       }
       sys.stencil_node_vertices(s, c) = local[static_cast<size_t>(v)];
     }
-
-  // Stencil of the active terms.
-  sys.stencil = build_stencil(g, rest, sys.term_nodes, stencil_index);
+  sys.stencil = build_stencil(g, *part.rest, part_terms, stencil_index);
   sys.rest_scale = sys.stencil.rest_norm.sum();
+  for (int& i : part_stencil) i = part.mesh_node(i);
+  sys.term_nodes.assign(part_stencil.begin(), part_stencil.begin() + static_cast<std::ptrdiff_t>(part_terms.size()));
+  sys.stencil_nodes = std::move(part_stencil);
   return sys;
 }
 
@@ -305,34 +315,44 @@ RotationOperator rotation_operator(const ConstrainedSystem& sys) {
   return RotationOperator(std::move(row_count), std::move(term), std::move(coef), T);
 }
 
-AssembledSystem assemble_system(const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
+AssembledSystem assemble_system(const ConstrainedSystem& sys, const Eigen::VectorXd& vertex_lambda) {
   AssembledSystem out;
   out.H = rotation_operator(sys);
-  update_stiffness(out, sys, node_lambda);
+  update_stiffness(out, sys, vertex_lambda);
   return out;
 }
 
-void set_term_stiffness(AssembledSystem& out, const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
-  const int T = sys.n_terms();
-  out.term_lambda.resize(T);
-  for (int t = 0; t < T; ++t) out.term_lambda(t) = node_lambda(sys.term_nodes[static_cast<size_t>(t)]);
+Eigen::VectorXd term_stiffness(const ConstrainedSystem& sys, const Eigen::VectorXd& vertex_lambda) {
+  if (vertex_lambda.size() != sys.n_vertices)
+    throw std::logic_error("term_stiffness: " + std::to_string(vertex_lambda.size()) + " lambdas for " +
+                           std::to_string(sys.n_vertices) + " vertices");
+  auto mesh_vertex = [&](int local) {
+    return local < sys.n_free() ? sys.free_vertices[static_cast<size_t>(local)]
+                                : sys.fixed_vertices[static_cast<size_t>(local - sys.n_free())];
+  };
+  Eigen::VectorXd lambda(sys.n_terms());
+  for (int t = 0; t < sys.n_terms(); ++t)  // node_stiffness's sum, in its order
+    lambda(t) = 0.5 * (vertex_lambda(mesh_vertex(sys.stencil_node_vertices(t, 0))) +
+                       vertex_lambda(mesh_vertex(sys.stencil_node_vertices(t, 1))));
+  return lambda;
+}
+
+void set_term_stiffness(AssembledSystem& out, const ConstrainedSystem& sys, const Eigen::VectorXd& vertex_lambda) {
+  out.term_lambda = term_stiffness(sys, vertex_lambda);
   out.term_similar = similarity_share(out.term_lambda, sys.similarity_floor);
   out.laplacian_term = (out.term_lambda.array() < 1.0).any();
   out.H.set_term_lambda(out.term_lambda, out.term_similar);
 }
 
-bool assembled_at(const AssembledSystem& as, const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
-  if (as.term_lambda.size() != sys.n_terms()) return false;
-  for (int t = 0; t < sys.n_terms(); ++t)
-    if (as.term_lambda(t) != node_lambda(sys.term_nodes[static_cast<size_t>(t)])) return false;
-  return true;
+bool assembled_at(const AssembledSystem& as, const ConstrainedSystem& sys, const Eigen::VectorXd& vertex_lambda) {
+  return as.term_lambda.size() == sys.n_terms() && as.term_lambda == term_stiffness(sys, vertex_lambda);
 }
 
-void update_stiffness(AssembledSystem& out, const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
+void update_stiffness(AssembledSystem& out, const ConstrainedSystem& sys, const Eigen::VectorXd& vertex_lambda) {
   require_jacobians(sys);
   const NodeStencil& st = sys.stencil;
   const int T = st.n_terms;
-  set_term_stiffness(out, sys, node_lambda);
+  set_term_stiffness(out, sys, vertex_lambda);
 
   // 1-form arcs weigh lambda_t + phi_t (rigid and similarity shares), the Laplacian 1 - both.
   Eigen::VectorXd w1(st.n_arcs());

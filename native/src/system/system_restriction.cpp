@@ -58,10 +58,8 @@ std::vector<int> term_map(const ConstrainedSystem& whole, const ConstrainedSyste
 }
 
 // Some term with lambda < 1 (AssembledSystem::laplacian_term).
-bool has_laplacian_term(const ConstrainedSystem& sys, const Eigen::VectorXd& node_lambda) {
-  for (int i : sys.term_nodes)
-    if (node_lambda(i) < 1.0) return true;
-  return false;
+bool has_laplacian_term(const ConstrainedSystem& sys, const Eigen::VectorXd& vertex_lambda) {
+  return (term_stiffness(sys, vertex_lambda).array() < 1.0).any();
 }
 
 }  // namespace
@@ -76,13 +74,13 @@ bool frees_subset(const ConstrainedSystem& part, const ConstrainedSystem& whole)
 }
 
 bool restriction_keeps_pattern(const ConstrainedSystem& whole, const ConstrainedSystem& part,
-                               const Eigen::VectorXd& node_lambda) {
-  return frees_subset(part, whole) && has_laplacian_term(part, node_lambda) == has_laplacian_term(whole, node_lambda);
+                               const Eigen::VectorXd& vertex_lambda) {
+  return frees_subset(part, whole) && has_laplacian_term(part, vertex_lambda) == has_laplacian_term(whole, vertex_lambda);
 }
 
 AssembledSystem restrict_assembly(const AssembledSystem& whole_assembled, const ConstrainedSystem& whole,
-                                  const ConstrainedSystem& part, const Eigen::VectorXd& node_lambda) {
-  if (!assembled_at(whole_assembled, whole, node_lambda))
+                                  const ConstrainedSystem& part, const Eigen::VectorXd& vertex_lambda) {
+  if (!assembled_at(whole_assembled, whole, vertex_lambda))
     throw std::logic_error("restrict_assembly: the whole set's operators hold another stiffness");
   const int nf_whole = whole.n_free(), nf = part.n_free();
   const std::vector<int> whole_local = local_ids(whole);
@@ -111,7 +109,7 @@ AssembledSystem restrict_assembly(const AssembledSystem& whole_assembled, const 
   }
   out.K_fixed = K.matrix(nf);
   out.H = whole_assembled.H.restricted(whole_row, term_map(whole, part), part.n_terms());
-  set_term_stiffness(out, part, node_lambda);
+  set_term_stiffness(out, part, vertex_lambda);
   return out;
 }
 
