@@ -187,11 +187,15 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
       .def_property_readonly(
           "domain", [](const Deformer& d) { return std::string(domain_name(d.domain())); }, "\"edge\" or \"primal\"")
       .def_property_readonly("analyses", &Deformer::analyses, "symbolic analyses so far (reuse check)")
+      .def_property_readonly("_whole_graph_built", &Deformer::whole_graph_built,
+                             "whether the whole mesh's graph was built (a region's solve builds only its own)")
       .def_property_readonly("factor_nonzeros", &Deformer::factor_nonzeros,
                              "entries of the Cholesky factor from the last analysis (0 before the first solve)")
       .def(
           "edges", [](const Deformer& d) { return int_matrix(d.topology().edges); },
-          "(n_edges, 2) int64 unique undirected edges, a < b (the edge domain's node order)")
+          "(n_edges, 2) int64 unique undirected edges, a < b (the edge domain's node order). Like arcs(), weights(), "
+          "node_vertices(), node_stiffness() and energy(), it builds the whole mesh's graph on first use and keeps it "
+          "(a region's solve builds only the region's)")
       .def("node_vertices",
            [](const Deformer& d) {
              const RowMatrixX2i& nv = d.graph().node_vertices;

@@ -157,3 +157,23 @@ def test_roi_from_refusals_leave_the_deformer_as_it_was():
         np.testing.assert_array_equal(d.free_vertices, before)
     with pytest.raises(IndexError):
         d.set_constraints(handles, static, roi_radius=1.0, roi_from=[len(V)])
+
+
+def test_a_region_builds_only_its_own_graph_and_matches_the_whole_one():
+    # The Deformer builds the graph of the region's faces (record 0058); one whose whole
+    # graph an inspection call built must give the same positions, bit for bit, and the
+    # inspection calls must still describe the whole mesh.
+    V, F, handles, static, targets = dino_case()
+    lam = np.where(np.arange(len(V)) % 4 == 0, 0.9, 0.3)
+    results = []
+    for inspect_first in (False, True):
+        d = ed.Deformer(V, F)
+        n_nodes = d.n_nodes
+        if inspect_first:
+            assert len(d.edges()) == n_nodes == len(unique_edges(F))
+        d.set_stiffness(lam)
+        d.set_constraints(handles, static, roi_radius=0.2 * diag(V))
+        results.append(np.asarray(d.solve(targets, max_iterations=8, tolerance=0.0).positions))
+        assert d._whole_graph_built == inspect_first
+    assert np.array_equal(results[0], results[1])
+    assert np.allclose(d.node_stiffness(), lam[d.node_vertices()].mean(axis=1), rtol=0, atol=1e-15)
