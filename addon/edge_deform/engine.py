@@ -36,7 +36,7 @@ class Inputs:
     roi: object                # (k,) int64, or None: the whole mesh (or the radius's)
     stiffness: object          # float or (n,) float64
     roi_radius: object = None  # float (mesh units): the region within it of the handles
-    roi_connected: bool = False   # ... measured along the edges
+    roi_connected: bool = False   # ... measured over the surface
 
 
 def _members(weights):

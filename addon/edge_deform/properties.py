@@ -76,7 +76,7 @@ class EdgeDeformSettings(bpy.types.PropertyGroup):
                     "(Wheel or Page Up/Page Down change it in Live and Grab Deform)")
     proportional_connected: BoolProperty(
         name="Connected Only", default=False,
-        description="Measure the radius along the mesh's edges, so parts that are near "
+        description="Measure the radius over the mesh's surface, so parts that are near "
                     "but not connected stay at rest (Alt+O in Live and Grab Deform)")
     stiffness_group: StringProperty(
         name="Stiffness Group",

@@ -142,8 +142,9 @@ handles: (h,) vertex indices that solve() puts exactly on its targets.
 static: (s,) vertex indices kept at rest, or None.
 roi: (r,) the region of interest, or None for the whole mesh; vertices outside stay at rest.
 roi_radius: instead of roi, the region within this distance (mesh units, rest positions) of
-any handle vertex, as Blender's proportional editing: straight-line distance, or along the
-mesh edges when roi_connected (Blender's "Connected Only": other components stay out).
+any handle vertex, as Blender's proportional editing: straight-line distance, or over the
+surface when roi_connected (Blender's "Connected Only": along the edges and across the faces;
+other components stay out).
 A vertex exactly roi_radius away is inside. The same region passed as roi gives the same
 positions, bit for bit.
 roi_from: (k,) the vertices roi_radius is measured from, or None for the handles (Blender

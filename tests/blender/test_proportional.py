@@ -1,6 +1,6 @@
 """Background tests of proportional editing's settings (record 0056): the radius reaches
 the core's set_constraints (the result equals the Python API's with roi_radius), it
-overrides the Region group, Connected Only measures along the mesh, and a radius that
+overrides the Region group, Connected Only measures over the surface, and a radius that
 frees no vertex (too small, or Static covering the region) is refused in plain words with
 nothing changed."""
 
@@ -13,12 +13,17 @@ from helpers import (add_group, add_handle, bpy, ed, key_positions, load,  # noq
 from mathutils import Matrix, Vector  # noqa: E402
 
 
-def plane(name="plane"):
-    """cgal_plane.off with a handle at one end; proportional on, radius 0.3 of its width."""
+def plane(name="plane", fold=False):
+    """cgal_plane.off with a handle at one end; proportional on, radius 0.3 of its width.
+    With fold, the part beyond 0.2 of the width from the handle's end tilts up by 56°."""
     V, F = load("cgal_plane.off")
-    ob = make_object(name, V, F)
     x = V[:, 0]
     width = float(np.ptp(x))
+    if fold:
+        V = V.copy()
+        hinge = x.max() - 0.2 * width
+        V[:, 2] += 1.5 * np.maximum(hinge - x, 0.0)
+    ob = make_object(name, V, F)
     handle = np.flatnonzero(x > x.max() - 0.05 * width)
     add_group(ob, "H", handle)
     s = ob.edge_deform
@@ -106,9 +111,9 @@ def test_radius_overrides_the_region_group():
 
 
 def test_connected_only():
-    """Along the edges a path is longer than the straight line (the triangles' zig-zag),
-    so Connected Only frees fewer vertices of the same plane."""
-    ob, V, F, handle, ctrl, width = plane()
+    """Over a folded sheet a distance is the unfolded one, longer than the chord across the
+    fold, so Connected Only frees fewer vertices of the same sheet."""
+    ob, V, F, handle, ctrl, width = plane(fold=True)
     r = ob.edge_deform.proportional_radius
     lift(ctrl, 0.2 * width)
     assert bpy.ops.edge_deform.solve() == {'FINISHED'}

@@ -1,5 +1,5 @@
-// region_by_distance.cpp against brute force, and the cases where straight-line and
-// along-the-edges regions differ; constrained_layout's roi_radius against the same roi.
+// region_by_distance.cpp against brute force and bounds, and the cases where straight-line
+// and over-the-surface regions differ; constrained_layout's roi_radius against the same roi.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -124,12 +124,19 @@ TEST(RegionByDistance, AlongTheEdgesAroundAUTurn) {
   const std::vector<int> along = vertices_within_distance(m.V, A, {handle}, 4.0, true);
   EXPECT_NE(std::find(straight.begin(), straight.end(), across), straight.end());
   EXPECT_EQ(std::find(along.begin(), along.end(), across), along.end());
-  EXPECT_EQ(along, brute_along_edges(m.V, E, {handle}, 4.0));
+  EXPECT_TRUE(std::includes(straight.begin(), straight.end(), along.begin(), along.end()));
+  const std::vector<int> edges = brute_along_edges(m.V, E, {handle}, 4.0);
+  EXPECT_TRUE(std::includes(along.begin(), along.end(), edges.begin(), edges.end()));
   const std::vector<int> far = brute_along_edges(m.V, E, {handle}, 12.0);
   EXPECT_NE(std::find(far.begin(), far.end(), across), far.end());
 }
 
-TEST(RegionByDistance, MatchesBruteForce) {
+bool contains(const std::vector<int>& outer, const std::vector<int>& inner) {
+  return std::includes(outer.begin(), outer.end(), inner.begin(), inner.end());
+}
+
+TEST(RegionByDistance, StraightLineMatchesBruteForceAndOverTheSurfaceLiesBetweenEdgesAndLine) {
+  // The surface distance is at least the chord and at most the path along the edges.
   const test::TestMesh m = test::grid(40, 30, 0.3);
   const RowMatrixX2i E = edges_of(m);
   const MeshIncidence incidence = mesh_incidence(m.F, static_cast<int>(m.V.rows()));
@@ -137,12 +144,43 @@ TEST(RegionByDistance, MatchesBruteForce) {
   std::mt19937 rng(7);
   std::uniform_int_distribution<int> vertex(0, static_cast<int>(m.V.rows()) - 1);
   std::uniform_real_distribution<double> radius(0.01, 0.4);
+  int wider_than_edges = 0;
   for (int trial = 0; trial < 20; ++trial) {
     std::vector<int> seeds(static_cast<size_t>(1 + trial * 7));  // beyond one k-d leaf
     for (int& s : seeds) s = vertex(rng);
     const double r = radius(rng);
-    EXPECT_EQ(vertices_within_distance(m.V, A, seeds, r, false), brute_straight_line(m.V, seeds, r)) << trial;
-    EXPECT_EQ(vertices_within_distance(m.V, A, seeds, r, true), brute_along_edges(m.V, E, seeds, r)) << trial;
+    const std::vector<int> line = vertices_within_distance(m.V, A, seeds, r, false);
+    EXPECT_EQ(line, brute_straight_line(m.V, seeds, r)) << trial;
+    const std::vector<int> surface = vertices_within_distance(m.V, A, seeds, r, true);
+    const std::vector<int> edges = brute_along_edges(m.V, E, seeds, r);
+    EXPECT_TRUE(contains(surface, edges)) << trial;
+    EXPECT_TRUE(contains(line, surface)) << trial;
+    wider_than_edges += surface.size() > edges.size();
+  }
+  EXPECT_GT(wider_than_edges, 10) << "across the faces should reach farther than along the edges";
+}
+
+TEST(RegionByDistance, OverAFlatSurfaceIsTheStraightLine) {
+  // Unfolded across the faces, a flat mesh's distance is the Euclidean one, from one seed or
+  // several (up to round-off: vertices within 1e-9 of the radius are not judged).
+  const test::TestMesh m = test::grid(40, 30, 0.0);
+  const MeshIncidence incidence = mesh_incidence(m.F, static_cast<int>(m.V.rows()));
+  const VertexNeighbours A(m.F, incidence);
+  std::mt19937 rng(9);
+  std::uniform_int_distribution<int> vertex(0, static_cast<int>(m.V.rows()) - 1);
+  std::uniform_real_distribution<double> radius(0.05, 0.5);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<int> seeds(static_cast<size_t>(1 + trial % 4));
+    for (int& s : seeds) s = vertex(rng);
+    const double r = radius(rng);
+    const std::vector<int> surface = vertices_within_distance(m.V, A, seeds, r, true);
+    for (int v = 0; v < m.V.rows(); ++v) {
+      double d = std::numeric_limits<double>::infinity();
+      for (int s : seeds) d = std::min(d, (m.V.row(v) - m.V.row(s)).norm());
+      if (std::abs(d - r) < 1e-9) continue;
+      EXPECT_EQ(std::binary_search(surface.begin(), surface.end(), v), d < r)
+          << "trial " << trial << " vertex " << v << " at " << d << " of " << r;
+    }
   }
 }
 

@@ -1,6 +1,7 @@
 """set_constraints(roi_radius=..., roi_connected=...): the region of interest picked by
 distance from the handles, as Blender's proportional editing picks it; checked against
-distances computed here (NumPy, SciPy's Dijkstra) and against the same region given as roi."""
+distances computed here (NumPy; SciPy's Dijkstra along the edges bounds the distance over the
+surface from above, the straight line from below) and against the same region given as roi."""
 
 import numpy as np
 import pytest
@@ -25,6 +26,13 @@ def along_edges_region(V, F, handles, radius):
     return np.flatnonzero(dist <= radius)
 
 
+def assert_over_surface(free, V, F, handles, static, radius):
+    """Connected Only's free vertices: at least those within the radius along the edges, at
+    most those within it in a straight line (a distance over the surface lies between)."""
+    assert set(expected_free(along_edges_region(V, F, handles, radius), handles, static)) <= set(free)
+    assert set(free) <= set(expected_free(straight_line_region(V, handles, radius), handles, static))
+
+
 def expected_free(region, handles, static):
     return np.setdiff1d(region, np.concatenate([handles, static]))
 
@@ -42,17 +50,21 @@ def dino_case():
 def test_radius_equals_the_same_roi_bit_for_bit(connected):
     V, F, handles, static, targets = dino_case()
     radius = 0.25 * diag(V)
-    region = along_edges_region(V, F, handles, radius) if connected else straight_line_region(V, handles, radius)
     by_radius = ed.Deformer(V, F)
     by_radius.set_constraints(handles, static, roi_radius=radius, roi_connected=connected)
-    np.testing.assert_array_equal(by_radius.free_vertices, expected_free(region, handles, static))
+    if connected:
+        assert_over_surface(by_radius.free_vertices, V, F, handles, static, radius)
+        region = np.union1d(by_radius.free_vertices, handles)
+    else:
+        region = straight_line_region(V, handles, radius)
+        np.testing.assert_array_equal(by_radius.free_vertices, expected_free(region, handles, static))
     by_roi = ed.Deformer(V, F)
     by_roi.set_constraints(handles, static, roi=region)
     a = by_radius.solve(targets, max_iterations=10, tolerance=0.0)
     b = by_roi.solve(targets, max_iterations=10, tolerance=0.0)
     assert np.array_equal(a.positions, b.positions)
     X = np.asarray(a.positions)
-    outside = np.setdiff1d(np.arange(len(V)), region)
+    outside = np.setdiff1d(np.arange(len(V)), np.union1d(region, static))
     assert outside.size > 0 and np.array_equal(X[outside], V[outside])
     assert np.array_equal(X[static], V[static])       # statics inside the radius stay static
     moved = by_radius.free_vertices
@@ -67,7 +79,7 @@ def test_connected_leaves_out_a_second_sheet_the_straight_line_reaches():
     F = np.vstack([F0, F0 + len(V0)])
     centre = int(np.argmin(np.linalg.norm(V0 - V0.mean(axis=0), axis=1)))
     handles = np.array([centre])
-    radius = 0.1 * diag(V0)
+    radius = 0.23 * diag(V0)
     d = ed.Deformer(V, F)
     d.set_constraints(handles, roi_radius=radius)
     straight = np.asarray(d.free_vertices)
@@ -76,7 +88,10 @@ def test_connected_leaves_out_a_second_sheet_the_straight_line_reaches():
     assert (straight >= len(V0)).any()                 # the other sheet is 2 % of the diagonal away
     assert not (along >= len(V0)).any()
     np.testing.assert_array_equal(straight, expected_free(straight_line_region(V, handles, radius), handles, []))
-    np.testing.assert_array_equal(along, expected_free(along_edges_region(V, F, handles, radius), handles, []))
+    # Over a flat sheet the distance across its faces is the straight line's, farther than the
+    # path along its edges reaches.
+    np.testing.assert_array_equal(along, expected_free(straight_line_region(V0, handles, radius), handles, []))
+    assert len(along) > len(expected_free(along_edges_region(V, F, handles, radius), handles, []))
 
 
 def strip(k):
@@ -113,7 +128,7 @@ def test_weld_passes_the_radius_through():
     (dict(roi_connected=True), r"roi_connected needs roi_radius"),
     (dict(roi_radius=1e-9), r"no free vertex within roi_radius 1e-09 of the handles: increase the radius"),
     (dict(roi_radius=1e-9, roi_connected=True),
-     r"no free vertex within roi_radius 1e-09 along the edges of the handles: increase the radius"),
+     r"no free vertex within roi_radius 1e-09 over the surface of the handles: increase the radius"),
 ], ids=["zero", "negative", "nan", "inf", "with_roi", "connected_alone", "too_small", "too_small_connected"])
 def test_bad_radius_rejected_and_deformer_unchanged(kwargs, words):
     V, F, handles, static, targets = dino_case()
@@ -137,8 +152,11 @@ def test_roi_from_measures_from_the_given_vertices(connected):
     radius = 0.2 * diag(V)
     d = ed.Deformer(V, F)
     d.set_constraints(held, static, roi_radius=radius, roi_connected=connected, roi_from=handles)
-    region = along_edges_region(V, F, handles, radius) if connected else straight_line_region(V, handles, radius)
-    np.testing.assert_array_equal(d.free_vertices, expected_free(region, held, static))
+    if connected:
+        assert_over_surface(d.free_vertices, V, F, handles, np.union1d(held, static), radius)
+    else:
+        region = straight_line_region(V, handles, radius)
+        np.testing.assert_array_equal(d.free_vertices, expected_free(region, held, static))
     everywhere = ed.Deformer(V, F)
     everywhere.set_constraints(held, static, roi_radius=radius, roi_connected=connected)
     assert len(everywhere.free_vertices) > len(d.free_vertices)   # the far pins grew a region of their own

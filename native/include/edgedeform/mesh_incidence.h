@@ -2,7 +2,7 @@
 // number every edge has in the edge topology's order, without the topology, the node graph
 // or a vertex adjacency. A region's graph is built from these (region_graph.h) in time and
 // memory of the region, whatever the mesh's size (record 0058); the walks over the surface
-// (regions along the edges, components) step through a vertex's faces (VertexNeighbours).
+// (regions over the surface, components) step through a vertex's faces (VertexNeighbours).
 #pragma once
 
 #include <vector>

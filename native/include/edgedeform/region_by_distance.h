@@ -11,11 +11,13 @@
 namespace edgedeform {
 
 // Vertices v (ascending ids) with distance(v, seeds) <= radius, measured in V (#V x 3):
-// Euclidean |V(v) - V(s)| (compared squared), or with `along_edges` the shortest path over
-// the mesh edges (`neighbours`), each edge as long as its straight segment. The seeds are inside (0).
+// Euclidean |V(v) - V(s)| (compared squared), or with `over_surface` the distance over the
+// mesh (`neighbours`) as Blender's Connected Only measures it: along the edges and straight
+// across the faces (unfolded, as fast marching does), so on a flat mesh it is the Euclidean
+// distance, and parts that are near in space but not joined stay out. The seeds are inside (0).
 // Throws std::invalid_argument unless radius is finite and > 0, std::out_of_range for a seed
 // that is not a vertex.
 std::vector<int> vertices_within_distance(const RowMatrixX3d& V, const VertexNeighbours& neighbours,
-                                          const std::vector<int>& seeds, double radius, bool along_edges);
+                                          const std::vector<int>& seeds, double radius, bool over_surface);
 
 }  // namespace edgedeform

@@ -116,55 +116,100 @@ std::vector<int> within_straight_line(const RowMatrixX3d& V, const std::vector<i
   return region;
 }
 
-// Multi-source Dijkstra that never queues a vertex beyond the radius: its cost grows with
-// the region, apart from the distance array over the whole mesh.
-std::vector<int> within_along_edges(const RowMatrixX3d& V, const VertexNeighbours& neighbours,
-                                    const std::vector<int>& seeds, double radius) {
+// The distance to p0 across the triangle (p1, p2, p0) from a source d1 from p1 and d2 from
+// p2 (the update of fast marching, and of Blender's Connected Only): the triangle is unfolded
+// into the plane with the source on the far side of the edge p1 p2; if the straight line from
+// the source to p0 crosses that edge, it is the distance, else the path turns at p1 or p2.
+double across_triangle(const Eigen::RowVector3d& p0, const Eigen::RowVector3d& p1, const Eigen::RowVector3d& p2,
+                       double d1, double d2) {
+  const double via_corner = std::min(d1 + (p0 - p1).norm(), d2 + (p0 - p2).norm());
+  const Eigen::RowVector3d edge = p2 - p1;
+  const double L = edge.norm();
+  if (!(L > 0.0)) return via_corner;
+  const double x0 = (p0 - p1).dot(edge) / L;
+  const double y0 = std::sqrt(std::max((p0 - p1).squaredNorm() - x0 * x0, 0.0));
+  const double sx = (d1 * d1 - d2 * d2 + L * L) / (2.0 * L);
+  const double sy2 = d1 * d1 - sx * sx;
+  if (!(sy2 >= 0.0) || !(y0 > 0.0)) return via_corner;  // no source fits d1, d2; or p0 on the edge's line
+  const double sy = -std::sqrt(sy2);
+  const double cross = sx + (x0 - sx) * (-sy) / (y0 - sy);  // where the line meets the edge's line
+  if (cross < 0.0 || cross > L) return via_corner;
+  return std::min(std::hypot(x0 - sx, y0 - sy), via_corner);
+}
+
+// Distances over the surface from the seeds, as Blender's Connected Only measures them: along
+// the edges, and across each face from its two other corners (across_triangle), kept up to
+// date by a priority queue that re-examines a vertex whenever its distance drops (a face's
+// estimate can undercut a vertex already taken). A face is crossed only when both corners
+// hold distances from the same seed: two seeds' distances make no source, and the unfolding
+// would cut below the straight line. Never queues a vertex beyond the radius: its cost grows
+// with the region, apart from the arrays over the whole mesh.
+std::vector<int> within_over_surface(const RowMatrixX3d& V, const VertexNeighbours& neighbours,
+                                     const std::vector<int>& seeds, double radius) {
   const int n = static_cast<int>(V.rows());
-  std::vector<double> dist(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
+  const RowMatrixX3i& F = neighbours.faces();
+  const MeshIncidence& m = neighbours.incidence();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<double> dist(static_cast<size_t>(n), kInf);
+  std::vector<int> source(static_cast<size_t>(n), -1);  // the seed each distance is from
   using Entry = std::pair<double, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
   for (int s : seeds)
     if (dist[static_cast<size_t>(s)] > 0.0) {
       dist[static_cast<size_t>(s)] = 0.0;
+      source[static_cast<size_t>(s)] = s;
       queue.emplace(0.0, s);
     }
-  std::vector<int> region;
+  std::vector<int> region(seeds);  // every vertex reached, once
+  auto offer = [&](int u, double du, int from) {
+    if (du <= radius && du < dist[static_cast<size_t>(u)]) {
+      if (dist[static_cast<size_t>(u)] == kInf) region.push_back(u);
+      dist[static_cast<size_t>(u)] = du;
+      source[static_cast<size_t>(u)] = from;
+      queue.emplace(du, u);
+    }
+  };
   while (!queue.empty()) {
     const auto [d, v] = queue.top();
     queue.pop();
     if (d > dist[static_cast<size_t>(v)]) continue;  // a stale entry
-    region.push_back(v);
-    neighbours.for_each(v, [&, d = d, v = v](int u) {  // twice across an interior edge: the second is no shorter
-      const double du = d + (V.row(u) - V.row(v)).norm();
-      if (du <= radius && du < dist[static_cast<size_t>(u)]) {
-        dist[static_cast<size_t>(u)] = du;
-        queue.emplace(du, u);
-      }
-    });
+    for (int k = m.face_offsets[static_cast<size_t>(v)]; k < m.face_offsets[static_cast<size_t>(v) + 1]; ++k) {
+      const int f = m.faces[static_cast<size_t>(k)];
+      int a = -1, b = -1;
+      for (int c = 0; c < 3; ++c)
+        if (F(f, c) != v) (a < 0 ? a : b) = F(f, c);
+      const int from = source[static_cast<size_t>(v)];
+      offer(a, d + (V.row(a) - V.row(v)).norm(), from);
+      offer(b, d + (V.row(b) - V.row(v)).norm(), from);
+      if (source[static_cast<size_t>(b)] == from)
+        offer(a, across_triangle(V.row(a), V.row(v), V.row(b), d, dist[static_cast<size_t>(b)]), from);
+      if (source[static_cast<size_t>(a)] == from)
+        offer(b, across_triangle(V.row(b), V.row(v), V.row(a), d, dist[static_cast<size_t>(a)]), from);
+    }
   }
   std::sort(region.begin(), region.end());
+  region.erase(std::unique(region.begin(), region.end()), region.end());
   return region;
 }
 
 }  // namespace
 
 std::vector<int> vertices_within_distance(const RowMatrixX3d& V, const VertexNeighbours& neighbours,
-                                          const std::vector<int>& seeds, double radius, bool along_edges) {
+                                          const std::vector<int>& seeds, double radius, bool over_surface) {
   if (!(std::isfinite(radius) && radius > 0.0)) {
     std::ostringstream msg;
     msg << "roi_radius must be a finite distance > 0, got " << radius;
     throw std::invalid_argument(msg.str());
   }
   const int n = static_cast<int>(V.rows());
-  if (along_edges && neighbours.n_vertices() != n)
+  if (over_surface && neighbours.n_vertices() != n)
     throw std::invalid_argument("the mesh incidence has " + std::to_string(neighbours.n_vertices()) + " vertices, V has " +
                                 std::to_string(n));
   for (int s : seeds)
     if (s < 0 || s >= n)
       throw std::out_of_range("seed vertex " + std::to_string(s) + " is out of range [0, " + std::to_string(n) + ")");
   if (seeds.empty()) return {};
-  return along_edges ? within_along_edges(V, neighbours, seeds, radius) : within_straight_line(V, seeds, radius);
+  return over_surface ? within_over_surface(V, neighbours, seeds, radius) : within_straight_line(V, seeds, radius);
 }
 
 }  // namespace edgedeform

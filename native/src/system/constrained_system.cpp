@@ -61,7 +61,7 @@ std::optional<std::vector<int>> region_of_interest(const RowMatrixX3d& rest, con
   if (sets.roi_radius && sets.roi)
     throw std::invalid_argument("roi and roi_radius both given: pass the region as one or the other");
   if (sets.roi_connected && !sets.roi_radius)
-    throw std::invalid_argument("roi_connected needs roi_radius (the distance along the edges)");
+    throw std::invalid_argument("roi_connected needs roi_radius (the distance over the surface)");
   if (sets.roi_from && !sets.roi_radius)
     throw std::invalid_argument("roi_from needs roi_radius (the distance measured from it)");
   if (!sets.roi_radius) return sets.roi;
@@ -109,7 +109,7 @@ std::vector<VertexRole> checked_roles(int n, const std::vector<bool>& referenced
 // that does is almost surely too small for the mesh, so it is an error that says so.
 std::string no_free_vertex_message(const ConstraintSets& sets) {
   std::ostringstream msg;
-  msg << "no free vertex within roi_radius " << *sets.roi_radius << (sets.roi_connected ? " along the edges" : "")
+  msg << "no free vertex within roi_radius " << *sets.roi_radius << (sets.roi_connected ? " over the surface" : "")
       << (sets.roi_from ? " of roi_from" : " of the handles") << ": increase the radius";
   return msg.str();
 }
