@@ -22,7 +22,8 @@ def plane(name="plane", fold=False):
     if fold:
         V = V.copy()
         hinge = x.max() - 0.2 * width
-        V[:, 2] += 1.5 * np.maximum(hinge - x, 0.0)
+        normal = int(np.argmin(np.ptp(V, axis=0)))  # the flat sheet's thin axis
+        V[:, normal] += 1.5 * np.maximum(hinge - x, 0.0)
     ob = make_object(name, V, F)
     handle = np.flatnonzero(x > x.max() - 0.05 * width)
     add_group(ob, "H", handle)

@@ -140,9 +140,7 @@ double across_triangle(const Eigen::RowVector3d& p0, const Eigen::RowVector3d& p
 // Distances over the surface from the seeds, as Blender's Connected Only measures them: along
 // the edges, and across each face from its two other corners (across_triangle), kept up to
 // date by a priority queue that re-examines a vertex whenever its distance drops (a face's
-// estimate can undercut a vertex already taken). A face is crossed only when both corners
-// hold distances from the same seed: two seeds' distances make no source, and the unfolding
-// would cut below the straight line. Never queues a vertex beyond the radius: its cost grows
+// estimate can undercut a vertex already taken). Never queues a vertex beyond the radius: its cost grows
 // with the region, apart from the arrays over the whole mesh.
 std::vector<int> within_over_surface(const RowMatrixX3d& V, const VertexNeighbours& neighbours,
                                      const std::vector<int>& seeds, double radius) {
@@ -169,6 +167,21 @@ std::vector<int> within_over_surface(const RowMatrixX3d& V, const VertexNeighbou
       queue.emplace(du, u);
     }
   };
+  // Across the face (p1, p2, p0) to p0. Between two seeds' distances the unfolded source is
+  // no real point and its estimate can fall below the straight line: it is kept no lower than
+  // the chord to the nearer of the two seeds, which it is then counted from.
+  auto cross = [&](int p0, int p1, int p2) {
+    const int s1 = source[static_cast<size_t>(p1)], s2 = source[static_cast<size_t>(p2)];
+    double d0 = across_triangle(V.row(p0), V.row(p1), V.row(p2), dist[static_cast<size_t>(p1)],
+                                dist[static_cast<size_t>(p2)]);
+    int from = s1;
+    if (s1 != s2) {
+      const double c1 = (V.row(p0) - V.row(s1)).norm(), c2 = (V.row(p0) - V.row(s2)).norm();
+      from = c1 <= c2 ? s1 : s2;
+      d0 = std::max(d0, std::min(c1, c2));
+    }
+    offer(p0, d0, from);
+  };
   while (!queue.empty()) {
     const auto [d, v] = queue.top();
     queue.pop();
@@ -181,10 +194,8 @@ std::vector<int> within_over_surface(const RowMatrixX3d& V, const VertexNeighbou
       const int from = source[static_cast<size_t>(v)];
       offer(a, d + (V.row(a) - V.row(v)).norm(), from);
       offer(b, d + (V.row(b) - V.row(v)).norm(), from);
-      if (source[static_cast<size_t>(b)] == from)
-        offer(a, across_triangle(V.row(a), V.row(v), V.row(b), d, dist[static_cast<size_t>(b)]), from);
-      if (source[static_cast<size_t>(a)] == from)
-        offer(b, across_triangle(V.row(b), V.row(v), V.row(a), d, dist[static_cast<size_t>(a)]), from);
+      if (source[static_cast<size_t>(b)] >= 0) cross(a, v, b);
+      if (source[static_cast<size_t>(a)] >= 0) cross(b, v, a);
     }
   }
   std::sort(region.begin(), region.end());
