@@ -82,7 +82,7 @@ class Deformer {
   // Lambda per node under the current stiffness (#nodes).
   Eigen::VectorXd node_lambda() const;
   // Whether the whole graph was built (tests: a region's solve must not need it).
-  bool whole_graph_built() const { return has_whole(); }
+  bool whole_graph_built() const;
   const Eigen::VectorXd& vertex_lambda() const { return vertex_lambda_; }
   int analyses() const { return factors_.analyses(); }
   int orderings() const { return factors_.orderings(); }
@@ -118,7 +118,6 @@ class Deformer {
     NodeGraph graph;
   };
   const WholeGraph& whole() const;
-  bool has_whole() const;  // whole_ is built
   // The graph part the layout of `roles` needs: the whole graph when built or when the region
   // reaches half the faces or more, else the region's own.
   ConstrainedSystem layout(VertexRoles roles, const ConstraintSets& sets) const;

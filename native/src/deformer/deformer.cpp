@@ -313,13 +313,13 @@ const Deformer::WholeGraph& Deformer::whole() const {
   return *whole_;
 }
 
-bool Deformer::has_whole() const {
+bool Deformer::whole_graph_built() const {
   std::lock_guard<std::mutex> lock(whole_mutex_);
   return whole_ != nullptr;
 }
 
 ConstrainedSystem Deformer::layout(VertexRoles roles, const ConstraintSets& sets) const {
-  if (!has_whole()) {
+  if (!whole_graph_built()) {
     // A region of half the mesh or more builds the whole graph once and keeps it, as the
     // whole mesh's constraints do: no more memory than twice its own part, and no graph
     // rebuilt at every set_constraints.
