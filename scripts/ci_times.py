@@ -29,7 +29,8 @@ RUNS = ROOT / "docs" / "ci_runs"
 PAGE = ROOT / "docs" / "ci_times.md"
 KINDS = {"full": "scripts/test.sh (what .ci/run runs)", "quick": "scripts/test.sh --quick (the fast tier)",
          "demo": "scripts/demo.sh", "custom": "scripts/test.sh with ctest arguments"}
-EARLIER_SHOWN = 8  # sections of older runs on the page (the page stays short; the JSON keeps all)
+PAGE_LINES = 400   # every docs page stays at most this long (tests/bench/test_report.py checks it)
+TABLE_ROWS = 15    # newest runs in the table; the JSON keeps every run
 BUDGETS = ("`.ci/run`: at most 30 minutes on this 2-core machine (CI stops at 90); "
            "`scripts/test.sh --quick` from a built tree: at most 3 minutes.")
 
@@ -219,6 +220,10 @@ def run_section(rec):
     return "\n\n".join(parts)
 
 
+def lines_of(parts):
+    return ("\n".join(parts).rstrip() + "\n").count("\n")
+
+
 def page(folder=RUNS):
     runs = load_runs(folder)
     out = ["# CI and test-tier times", "",
@@ -229,11 +234,14 @@ def page(folder=RUNS):
            "under the same conditions, and read a busy run as an upper bound. Budgets: "
            + BUDGETS + " How to record a run: `scripts/ci_times.py` (its docstring); the test "
            "tiers and labels: [development.md](development.md).", ""]
-    out += ["## Every recorded run", "",
+    shown = runs[:TABLE_ROWS]
+    out += ["## Recorded runs, newest first", "",
             table(["date", "command", "what ran", "commit", "machine; conditions", "total", "tests"],
                   [[r["date"][:10], KINDS.get(r["run"], r["run"]), r["what"], r["commit"],
                     f"{r['machine']}; {r['conditions']}", f"**{duration(r.get('total_s'))}**",
-                    tests_text(r)] for r in runs]), ""]
+                    tests_text(r)] for r in shown]), ""]
+    if len(runs) > len(shown):
+        out += [f"{len(runs) - len(shown)} older runs: `docs/ci_runs/`.", ""]
     featured = []
     for kind, title in (("full", "Where a full run's time goes"), ("quick", "The fast tier")):
         measured = [r for r in runs if r["run"] == kind and (r.get("phases") or r.get("labels"))]
@@ -242,11 +250,18 @@ def page(folder=RUNS):
             out += [f"## {title} (the newest measured run)", "", run_section(measured[0]), ""]
     older = [r for r in runs if r not in featured
              and (r.get("pieces") or r.get("phases") or r.get("labels") or r.get("notes"))]
-    if older:
-        out += ["## Earlier runs: pieces and notes", ""]
-        out += [part for r in older[:EARLIER_SHOWN] for part in (run_section(r), "")]
-        if len(older) > EARLIER_SHOWN:
-            out += [f"{len(older) - EARLIER_SHOWN} older records with pieces: `docs/ci_runs/`.", ""]
+    # Earlier runs' sections fill what is left of the page, newest first: recording a run
+    # must never push the page past the docs' length rule.
+    sections = []
+    for r in older:
+        section = [run_section(r), ""]
+        if lines_of(out + ["## Earlier runs: pieces and notes", ""] + sections + section + ["x", ""]) > PAGE_LINES:
+            break
+        sections += section
+    if sections:
+        out += ["## Earlier runs: pieces and notes", ""] + sections
+    if len(sections) // 2 < len(older):
+        out += [f"{len(older) - len(sections) // 2} older records with pieces: `docs/ci_runs/`.", ""]
     return "\n".join(out).rstrip() + "\n"
 
 
