@@ -8,8 +8,9 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from helpers import (add_group, add_handle, bpy, ed, key_positions, load,  # noqa: E402
-                     make_object, np, positions, refused, run, session)
+import bmesh  # noqa: E402
+from helpers import (activate, add_group, add_handle, bpy, ed, key_positions,  # noqa: E402
+                     load, make_object, np, positions, refused, run, session)
 from mathutils import Matrix, Vector  # noqa: E402
 
 
@@ -132,6 +133,61 @@ def test_connected_only():
         "connected only holds more vertices at rest, a superset"
 
 
+def blenders_proportional_move(ob, selected, r, connected):
+    """The vertices Blender's own proportional editing moves: Edit Mode, `selected` alone
+    selected, Move with Constant falloff and radius r; undone by restoring the positions."""
+    activate(ob)
+    bpy.ops.object.mode_set(mode='EDIT')
+    bpy.ops.mesh.select_all(action='DESELECT')   # a new mesh starts with every face selected
+    bm = bmesh.from_edit_mesh(ob.data)
+    chosen = set(int(i) for i in selected)
+    for v in bm.verts:
+        v.select = v.index in chosen
+    bm.select_flush_mode()
+    bmesh.update_edit_mesh(ob.data)
+    before = np.array([v.co[:] for v in bm.verts])
+    bpy.ops.transform.translate(value=(0, 0, 0.05), use_proportional_edit=True,
+                                proportional_edit_falloff='CONSTANT', proportional_size=r,
+                                use_proportional_connected=connected)
+    bm = bmesh.from_edit_mesh(ob.data)
+    after = np.array([v.co[:] for v in bm.verts])
+    for v, co in zip(bm.verts, before):
+        v.co = co
+    bmesh.update_edit_mesh(ob.data)
+    bpy.ops.object.mode_set(mode='OBJECT')
+    return np.flatnonzero(np.any(after != before, axis=1))
+
+
+def test_the_region_is_blenders_proportional_editing():
+    """What an artist's proportional editing moves is what we free (record 0059): on the
+    dino, handles at its snout's end, three radii. The straight-line region is Blender's
+    vertex for vertex. Connected Only differs by a few vertices where Blender's estimate
+    across a face between two handles' distances undercuts the chord (ours never passes the
+    straight-line radius), measured 0, 1 and 2 of 500 to 850."""
+    V, F = load("cgal_dino.off")
+    V = np.asarray(V, np.float64)
+    ob = make_object("dino", V, F)
+    x = V[:, 0]
+    handle = np.flatnonzero(x >= x.max() - 0.03 * np.ptp(x))
+    diagonal = float(np.linalg.norm(np.ptp(V, axis=0)))
+    for fraction in (0.1, 0.2, 0.35):
+        r = fraction * diagonal
+        d = ed.Deformer(V, np.asarray(F), domain="edge")
+        for connected in (False, True):
+            d.set_constraints(handles=handle, static=np.zeros(0, np.int64), roi_radius=r,
+                              roi_connected=connected)
+            ours = np.union1d(d.free_vertices, handle)
+            blenders = blenders_proportional_move(ob, handle, r, connected)
+            what = (fraction, "connected" if connected else "straight", len(ours), len(blenders))
+            if not connected:
+                assert np.array_equal(ours, blenders), what
+                straight = ours
+            else:
+                assert len(np.setxor1d(ours, blenders)) <= 0.01 * len(blenders), what
+                assert np.all(np.isin(ours, straight)), what
+                assert len(ours) < len(straight), what
+
+
 def test_radius_that_frees_nothing_is_refused():
     ob, V, F, handle, ctrl, width = plane()
     assert bpy.ops.edge_deform.solve() == {'FINISHED'}
@@ -179,6 +235,7 @@ def test_frame_change_and_playback_read_the_radius():
 
 if __name__ == "__main__":
     run([test_defaults, test_radius_reaches_the_core, test_radius_overrides_the_region_group,
-         test_connected_only, test_radius_that_frees_nothing_is_refused,
+         test_connected_only, test_the_region_is_blenders_proportional_editing,
+         test_radius_that_frees_nothing_is_refused,
          test_static_covering_the_region_is_refused,
          test_frame_change_and_playback_read_the_radius])
