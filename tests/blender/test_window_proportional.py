@@ -23,10 +23,10 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from helpers import Told, bpy, key_positions, np, positions, select_only, visible  # noqa: E402
-from window_harness import (center, ctrl, event, main, plane, run_sections,  # noqa: E402
-                            running, setup, tap, until, view3d)
-from window_ui import open_tab, press_button, window_pixels  # noqa: E402
+from helpers import Told, activate, bpy, key_positions, np, positions, select_only, visible  # noqa: E402
+from window_harness import (center, ctrl, event, main, plane,  # noqa: E402
+                            running, tap, until, view3d)
+from window_ui import grab_from_the_panel, press_button, sidebar_sections, window_pixels  # noqa: E402
 
 
 def distance_to(V, idx):
@@ -35,12 +35,6 @@ def distance_to(V, idx):
 
 def width(ob):
     return float(np.ptp(positions(ob.data)[:, 0]))
-
-
-def activate(ob):
-    for other in bpy.context.view_layer.objects:
-        other.select_set(other == ob)
-    bpy.context.view_layer.objects.active = ob
 
 
 def region_text():
@@ -76,21 +70,6 @@ def start_live():
     yield from until(lambda: running() is not None)
     assert running() is not None, "the panel's Live Deform did not start Live"
     event('MOUSEMOVE', at=center())
-    yield
-
-
-def start_grab(ob):
-    """Grab from the panel's button on the selected vertices, as an artist starts it."""
-    activate(ob)
-    event('MOUSEMOVE', at=center())
-    yield
-    tap('TAB')
-    yield from until(lambda: ob.mode == 'EDIT')
-    yield from press_button("bpy.ops.edge_deform.grab(")
-    yield from until(lambda: running() is not None)
-    assert running() is not None, "the panel's Grab Deform did not start Grab"
-    event('MOUSEMOVE', at=center())
-    yield
     yield
 
 
@@ -233,7 +212,7 @@ def s4_grab_keys_header_and_resize():
     s.proportional = True
     s.proportional_radius = r0 = 0.5 * w
     select_only(ob.data, handle)
-    yield from start_grab(ob)
+    yield from grab_from_the_panel(ob)
     event('MOUSEMOVE', at=center(0, 60))
 
     def settled_drag():
@@ -308,7 +287,7 @@ def s5_grab_radius_then_region_group():
     s.proportional = True
     s.proportional_radius = 0.7 * w
     select_only(ob.data, handle)
-    yield from start_grab(ob)
+    yield from grab_from_the_panel(ob)
     event('MOUSEMOVE', at=center(0, 60))
 
     def settled_drag():
@@ -346,7 +325,7 @@ def s6_grab_measures_from_the_dragged_vertices():
     near_pinned = (distance_to(rest, handle) <= r) & (distance_to(rest, middle) > r)
     assert near_pinned.any(), "the scene needs vertices near the handle and far from the drag"
     select_only(ob.data, middle)
-    yield from start_grab(ob)
+    yield from grab_from_the_panel(ob)
     event('MOUSEMOVE', at=center(0, 40))
     yield from until(lambda: (running() is not None and running().settle.at_rest
                               and running().settle.iterations > 0
@@ -367,20 +346,4 @@ SECTIONS = [s1_live_keys_and_circle, s2_live_resize_while_lifted,
 HANDLE = [None]
 
 
-def steps():
-    tap('ESC')   # dismiss the splash screen
-    yield
-    only = os.environ.get("EDGEDEFORM_SECTIONS", "").split(",")   # (to run a few by hand)
-    chosen = [s for s in SECTIONS if only == [""] or s.__name__.split("_")[0] in only]
-    tab = []
-
-    def fresh_scene(_section):
-        HANDLE[0], _ = setup()
-        if not tab:
-            yield from open_tab()
-            tab.append(True)
-        yield
-    yield from run_sections(chosen, fresh_scene)
-
-
-main(steps, limit_s=500)
+main(sidebar_sections(SECTIONS, HANDLE), limit_s=500)

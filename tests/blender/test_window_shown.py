@@ -27,23 +27,18 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bmesh  # noqa: E402
-from helpers import Told, bpy, key_positions, np, positions, select_only, visible  # noqa: E402
+from helpers import Told, activate, bpy, key_positions, np, positions, select_only, visible  # noqa: E402
 from mathutils import Vector  # noqa: E402
 from window_harness import (center, ctrl, event, g_drag, keyed_lift, main,  # noqa: E402
-                            plane, run_sections, running, screenshot, setup, tap, until)
-from window_ui import (ICONS, LEFT, changed_columns, f3, focus_window, open_tab,  # noqa: E402
-                       press_button, status_bar, ui_text_width, window_pixels)
+                            plane, running, screenshot, tap, until)
+from window_ui import (ICONS, LEFT, changed_columns, f3, focus_window,  # noqa: E402
+                       grab_from_the_panel, press_button, sidebar_sections, status_bar,
+                       ui_text_width, window_pixels)
 
 
 def diagonal(ob):
     co = positions(ob.data).astype(float)
     return float(np.linalg.norm(np.ptp(co, axis=0)))
-
-
-def activate(ob):
-    for other in bpy.context.view_layer.objects:
-        other.select_set(other == ob)
-    bpy.context.view_layer.objects.active = ob
 
 
 def middle_column(ob):
@@ -104,16 +99,7 @@ def grab_drag(ob, idx, dy):
     """Select `idx`, Tab into Edit Mode, Grab Deform from the panel's button, drag `dy`
     pixels up from the view's centre, Enter: back in Edit Mode."""
     select_only(ob.data, idx)
-    activate(ob)
-    event('MOUSEMOVE', at=center())
-    yield
-    tap('TAB')
-    yield from until(lambda: ob.mode == 'EDIT')
-    yield from press_button("bpy.ops.edge_deform.grab(")
-    yield from until(lambda: running() is not None)
-    event('MOUSEMOVE', at=center())
-    yield
-    yield
+    yield from grab_from_the_panel(ob)
     event('MOUSEMOVE', at=center(0, dy))
     yield from until(lambda: ob.data.shape_keys is not None and running() is not None
                      and running().settle.at_rest
@@ -470,21 +456,4 @@ SECTIONS = [s1_solve_during_live_is_refused, s2_grab_after_bake_starts_from_the_
 HANDLE = [None]
 
 
-def steps():
-    tap('ESC')   # dismiss the splash screen
-    yield
-    only = os.environ.get("EDGEDEFORM_SECTIONS", "").split(",")   # (to run a few by hand)
-    chosen = [s for s in SECTIONS if only == [""] or s.__name__.split("_")[0] in only]
-    tab = []
-
-    def fresh_scene(_section):
-        HANDLE[0], _ = setup()
-        if not tab:
-            yield from open_tab()
-            tab.append(True)
-        bpy.context.scene.frame_set(1)
-        yield
-    yield from run_sections(chosen, fresh_scene)
-
-
-main(steps, limit_s=900)
+main(sidebar_sections(SECTIONS, HANDLE, after_setup=lambda: bpy.context.scene.frame_set(1)), limit_s=900)

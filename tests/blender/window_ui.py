@@ -18,8 +18,9 @@ import ctypes
 import ctypes.util
 import os
 
-from helpers import OUT, bpy, np
-from window_harness import center, event, screenshot, tap, view3d
+from helpers import OUT, activate, bpy, np
+from window_harness import (center, event, run_sections, running, screenshot, setup, tap, until,
+                            view3d)
 
 COPY_KEYMAP_ITEMS = {"view3d.copybuffer", "view3d.pastebuffer"}
 
@@ -97,6 +98,44 @@ def open_tab():
     tap('LEFTMOUSE', at=at)
     for _ in range(3):
         yield
+
+
+def grab_from_the_panel(ob):
+    """Tab into Edit Mode on `ob` and start Grab Deform from the panel's button on the
+    selected vertices, as an artist starts it; the pointer rests at the view's centre."""
+    activate(ob)
+    event('MOUSEMOVE', at=center())
+    yield
+    tap('TAB')
+    yield from until(lambda: ob.mode == 'EDIT')
+    yield from press_button("bpy.ops.edge_deform.grab(")
+    yield from until(lambda: running() is not None)
+    assert running() is not None, "the panel's Grab Deform did not start Grab"
+    event('MOUSEMOVE', at=center())
+    yield
+    yield
+
+
+def sidebar_sections(sections, handle, after_setup=lambda: None):
+    """The steps of a window test made of sections: each runs on a fresh scene (setup(),
+    its handle's indices put in `handle[0]`, then `after_setup()`) with the Edge Deform tab
+    open. EDGEDEFORM_SECTIONS=s1,s4 runs a few by hand."""
+    def steps():
+        tap('ESC')   # dismiss the splash screen
+        yield
+        only = os.environ.get("EDGEDEFORM_SECTIONS", "").split(",")
+        chosen = [s for s in sections if only == [""] or s.__name__.split("_")[0] in only]
+        tab = []
+
+        def fresh_scene(_section):
+            handle[0], _ = setup()
+            if not tab:
+                yield from open_tab()
+                tab.append(True)
+            after_setup()
+            yield
+        yield from run_sections(chosen, fresh_scene)
+    return steps
 
 
 def _copy_keys(active):
