@@ -176,7 +176,8 @@ class EDGE_DEFORM_PT_groups(_SubPanel, bpy.types.Panel):
         col = layout.column()
         col.active = s.proportional
         col.prop(s, "proportional_radius")
-        col.prop(s, "proportional_connected")
+        # "Connected Only" (its tooltip's name) was cut off at 170 px by Blender 4.3's font.
+        col.prop(s, "proportional_connected", text="Connected")
 
 
 class EDGE_DEFORM_PT_stiffness(_SubPanel, bpy.types.Panel):

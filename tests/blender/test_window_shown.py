@@ -396,8 +396,8 @@ def s8_a_note_goes_at_its_five_seconds():
 
 
 def banner_after(before, name, seconds=6.0):
-    """Screenshots until the status bar differs from `before` right of its middle (where
-    Blender's report banner slides in): the changed columns, or None."""
+    """Screenshots until a banner shows in the status bar (changed_columns): its columns,
+    or None."""
     started, n = time.monotonic(), 0
     while time.monotonic() - started < seconds:
         n += 1

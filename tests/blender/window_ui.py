@@ -243,13 +243,18 @@ def status_bar(px):
     return px[:bottom]
 
 
-def changed_columns(before, after, least=0.08):
-    """The x range (first, last) of the columns in which `after` differs from `before`,
-    right of the middle (where Blender draws its report banner), or None."""
-    half = before.shape[1] // 2
-    diff = np.abs(after[:, half:] - before[:, half:]).max(axis=(0, 2)) > least
+def changed_columns(before, after, least=0.08, narrowest_banner=100):
+    """The x range (first, last) of a report banner that `after` shows and `before` did not,
+    or None. A banner is a filled box, so its columns change without a break (Blender 3.4
+    draws it right of the middle, 4.3 centred); the key hints at the left and the icons at
+    the right change too, but a word or an icon at a time: runs under 100 px (at most 40
+    seen) are not a banner."""
+    diff = np.abs(after - before).max(axis=(0, 2)) > least
     cols = np.flatnonzero(diff)
-    return None if cols.size == 0 else (half + int(cols[0]), half + int(cols[-1]))
+    if cols.size == 0:
+        return None
+    longest = max(np.split(cols, np.flatnonzero(np.diff(cols) > 1) + 1), key=len)
+    return (int(longest[0]), int(longest[-1])) if len(longest) >= narrowest_banner else None
 
 
 def ui_text_width(text):
