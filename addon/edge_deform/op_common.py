@@ -131,6 +131,10 @@ def redraw_views(context):
         for area in window.screen.areas:
             if area.type == 'VIEW_3D':
                 area.tag_redraw()
+                # Blender 4.3 redraws the sidebar only when its own region is tagged: the
+                # panel kept saying Bind after Bind until the pointer crossed it.
+                for region in area.regions:
+                    region.tag_redraw()
 
 
 def report_lines(op, lines):

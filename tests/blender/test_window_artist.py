@@ -222,6 +222,7 @@ def f05_panel_redraws_after_bind():
             assert lifecycle.is_bound(plane().data)
             for _ in range(10):
                 yield
+        print("  f05: %d sidebar draws, %d after Bound" % (len(drawn), sum(t > done for t in drawn)))
         assert any(t > done for t in drawn), "the sidebar was not redrawn after Bind"
         screenshot("artist_panel_after_bind.png")
     finally:

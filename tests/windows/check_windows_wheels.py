@@ -54,7 +54,10 @@ def check_module(objdump, data, tag):
     assert python_dll in dlls, (tag, dlls)
     extra = dlls - SYSTEM_DLLS - {python_dll}
     assert not extra, "%s: the module needs DLLs no Windows Python has: %s" % (tag, sorted(extra))
-    assert re.search(r"\]\s+PyInit__core\b", headers), "%s: no PyInit__core export" % tag
+    # binutils 2.40 (Debian 12) lists "[   0] PyInit__core"; 2.44 (Debian 13) adds the
+    # ordinal and hint: "[   0] +base[   1]  0000 PyInit__core".
+    assert re.search(r"\[\s*\d+\][^\n]*\sPyInit__core$", headers, re.M), \
+        "%s: no PyInit__core export" % tag
     return sorted(dlls)
 
 
