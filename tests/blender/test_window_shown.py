@@ -100,10 +100,16 @@ def grab_drag(ob, idx, dy):
     pixels up from the view's centre, Enter: back in Edit Mode."""
     select_only(ob.data, idx)
     yield from grab_from_the_panel(ob)
+    start, t0 = visible(ob)[idx], time.monotonic()
     event('MOUSEMOVE', at=center(0, dy))
+    # At rest after the drag was seen: Grab may already rest on the press's position, and
+    # Enter before the drag's solve kept an unsettled shape that Live then moved on.
     yield from until(lambda: ob.data.shape_keys is not None and running() is not None
+                     and np.abs(visible(ob)[idx] - start).max() > 1e-3 * diagonal(ob)
                      and running().settle.at_rest
                      and running().settle.iterations > 0, 30)
+    assert running() is not None and running().settle.settled, "the Grab did not settle"
+    print("  grab_drag: settled %.1f s after the drag" % (time.monotonic() - t0))
     tap('RET', at=center(0, dy))
     yield from until(lambda: running() is None and ob.mode == 'EDIT')
     assert ob.mode == 'EDIT' and running() is None
