@@ -250,18 +250,19 @@ def page(folder=RUNS):
             out += [f"## {title} (the newest measured run)", "", run_section(measured[0]), ""]
     older = [r for r in runs if r not in featured
              and (r.get("pieces") or r.get("phases") or r.get("labels") or r.get("notes"))]
-    # Earlier runs' sections fill what is left of the page, newest first: recording a run
-    # must never push the page past the docs' length rule.
-    sections = []
+    # Earlier runs' sections fill what is left of the page, newest first (room kept for the
+    # heading and the closing line): recording a run must never push the page past the rule.
+    heading, sections, shown_older = ["## Earlier runs: pieces and notes", ""], [], 0
     for r in older:
         section = [run_section(r), ""]
-        if lines_of(out + ["## Earlier runs: pieces and notes", ""] + sections + section + ["x", ""]) > PAGE_LINES:
+        if lines_of(out + heading + sections + section) + 2 > PAGE_LINES:
             break
         sections += section
+        shown_older += 1
     if sections:
-        out += ["## Earlier runs: pieces and notes", ""] + sections
-    if len(sections) // 2 < len(older):
-        out += [f"{len(older) - len(sections) // 2} older records with pieces: `docs/ci_runs/`.", ""]
+        out += heading + sections
+    if shown_older < len(older):
+        out += [f"{len(older) - shown_older} older records with pieces: `docs/ci_runs/`.", ""]
     return "\n".join(out).rstrip() + "\n"
 
 
