@@ -10,7 +10,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bmesh  # noqa: E402
 from helpers import (activate, add_group, add_handle, bpy, ed, key_positions,  # noqa: E402
-                     load, make_object, np, positions, refused, run, session)
+                     load, make_object, np, positions, refused, run, select_only, session)
 from mathutils import Matrix, Vector  # noqa: E402
 
 
@@ -136,15 +136,11 @@ def test_connected_only():
 def blenders_proportional_move(ob, selected, r, connected):
     """The vertices Blender's own proportional editing moves: Edit Mode, `selected` alone
     selected, Move with Constant falloff and radius r; undone by restoring the positions."""
+    select_only(ob.data, selected)   # a new mesh starts with every face selected
     activate(ob)
     bpy.ops.object.mode_set(mode='EDIT')
-    bpy.ops.mesh.select_all(action='DESELECT')   # a new mesh starts with every face selected
     bm = bmesh.from_edit_mesh(ob.data)
-    chosen = set(int(i) for i in selected)
-    for v in bm.verts:
-        v.select = v.index in chosen
-    bm.select_flush_mode()
-    bmesh.update_edit_mesh(ob.data)
+    assert sum(v.select for v in bm.verts) == len(selected)
     before = np.array([v.co[:] for v in bm.verts])
     bpy.ops.transform.translate(value=(0, 0, 0.05), use_proportional_edit=True,
                                 proportional_edit_falloff='CONSTANT', proportional_size=r,
