@@ -35,13 +35,8 @@ pybind11_include=$("$tools/bin/python" -c "import pybind11; print(pybind11.get_i
 pythons=()
 for version in $versions; do
   tag=cp${version/./}
-  if ! py=$(bash scripts/find_python.sh "$version" 2>/dev/null); then
-    echo "build_windows: no Python $version here for its headers: no $tag wheel" >&2
-    continue
-  fi
-  include=$("$py" -c "import sysconfig; print(sysconfig.get_paths()['include'])")
-  if [ ! -f "$include/Python.h" ]; then
-    echo "build_windows: $py has no headers ($include/Python.h; apt-get install python$version-dev): no $tag wheel" >&2
+  if ! include=$(bash scripts/python_headers.sh "$version" 2>"$build/headers.log"); then
+    echo "build_windows: $(cat "$build/headers.log"): no $tag wheel" >&2
     continue
   fi
   pythons+=("$tag=$include")

@@ -62,17 +62,11 @@ def check_module(objdump, data, tag):
 
 
 def has_headers(tag):
-    """Whether build_windows.sh can build `tag` here: scripts/find_python.sh finds that
-    Python and it has Python.h."""
+    """Whether build_windows.sh can build `tag` here (scripts/python_headers.sh, which it
+    uses too, finds that Python's Python.h)."""
     version = "%s.%s" % (tag[2], tag[3:])
-    found = subprocess.run(["bash", str(ROOT / "scripts" / "find_python.sh"), version],
-                           capture_output=True, text=True)
-    if found.returncode != 0:
-        return False
-    include = subprocess.run([found.stdout.strip(), "-c",
-                              "import sysconfig; print(sysconfig.get_paths()['include'])"],
-                             capture_output=True, text=True, check=True).stdout.strip()
-    return (Path(include) / "Python.h").is_file()
+    return subprocess.run(["bash", str(ROOT / "scripts" / "python_headers.sh"), version],
+                          capture_output=True).returncode == 0
 
 
 def main():
