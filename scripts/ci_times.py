@@ -8,9 +8,11 @@ from every record, as bench/report.py writes the benchmark pages.
 
 `record` reads the last run's log (its phases' wall times, the 1-minute load at its start
 and end, the commit) and ctest's JUnit (each test's time, status and labels), writes
-docs/ci_runs/<date>-<kind>-<commit>.json, and rewrites the page. Without `record` the page
-is rewritten from docs/ci_runs/; --check writes nothing and exits 1 when the page differs
-(ctest's docs_links runs it). Records are not edited afterwards: a new run is a new record.
+docs/ci_runs/<date>-<kind>-<commit>.json, deletes the records older than the newest KEEP
+(git keeps them: commit the deletions with the new record), and rewrites the page. Without
+`record` the page is rewritten from docs/ci_runs/; --check writes nothing and exits 1 when
+the page differs (ctest's docs_links runs it). Records are not edited afterwards: a new run
+is a new record.
 """
 
 import argparse
@@ -29,8 +31,8 @@ RUNS = ROOT / "docs" / "ci_runs"
 PAGE = ROOT / "docs" / "ci_times.md"
 KINDS = {"full": "scripts/test.sh (what .ci/run runs)", "quick": "scripts/test.sh --quick (the fast tier)",
          "demo": "scripts/demo.sh", "custom": "scripts/test.sh with ctest arguments"}
-PAGE_LINES = 400   # every docs page stays at most this long (tests/bench/test_report.py checks it)
-TABLE_ROWS = 15    # newest runs in the table; the JSON keeps every run
+KEEP = 5                    # newest records kept in docs/ci_runs/; the older ones are in git
+FEATURED = ("full", "quick")  # kinds whose newest run the page details; kept even when older
 BUDGETS = ("`.ci/run`: at most 30 minutes on this 2-core machine (CI stops at 90); "
            "`scripts/test.sh --quick` from a built tree: at most 3 minutes.")
 
@@ -131,7 +133,7 @@ def summarize(tests):
     return counts, by_label, longest
 
 
-def record(build, kind, what, conditions):
+def record(build, kind, what, conditions, folder=None):
     log = read_log(Path(build) / "ci_times" / f"{kind}.txt")
     junit = ["quick_ctest.xml"] if kind == "quick" else ["ctest.xml", "ctest_timing.xml"]
     tests = read_junit([Path(build) / "ci_times" / j for j in junit])
@@ -148,10 +150,23 @@ def record(build, kind, what, conditions):
                                       "recorded by scripts/ci_times.py record",
     }
     stamp = datetime.datetime.strptime(rec["date"], "%Y-%m-%d %H:%M UTC").strftime("%Y-%m-%d-%H%M")
-    path = RUNS / f"{stamp}-{kind}-{rec['commit']}.json"
-    RUNS.mkdir(parents=True, exist_ok=True)
+    folder = Path(folder or RUNS)
+    path = folder / f"{stamp}-{kind}-{rec['commit']}.json"
+    folder.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(rec, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
     return path
+
+
+def prune(folder=RUNS, keep=KEEP):
+    """Deletes the records older than the newest `keep`, except the newest of each FEATURED
+    kind (the page's detailed sections and the README's times read those); returns the
+    deleted paths. Git keeps every deleted record."""
+    runs = load_runs(folder)
+    kept = runs[:keep] + [newest_measured(runs, kind) for kind in FEATURED]
+    gone = [Path(folder) / r["file"] for r in runs if r not in kept]
+    for path in gone:
+        path.unlink()
+    return gone
 
 
 # ------------------------------------------------------------------ the page
@@ -188,6 +203,11 @@ def load_runs(folder):
     return sorted(runs, key=lambda r: r["date"], reverse=True)
 
 
+def newest_measured(runs, kind):
+    """The newest run of `kind` with phase or label times (None if there is none)."""
+    return next((r for r in runs if r["run"] == kind and (r.get("phases") or r.get("labels"))), None)
+
+
 def table(header, rows):
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
@@ -211,17 +231,7 @@ def run_section(rec):
     if rec.get("longest"):
         rows = [[f"`{name}`", duration(s), status] for name, s, status in rec["longest"]]
         parts.append("The longest tests:\n\n" + table(["test", "wall time", "result"], rows))
-    if rec.get("pieces"):
-        rows = [[piece, duration(s) if s is not None else "", note] for piece, s, note in rec["pieces"]]
-        parts.append((rec.get("pieces_note", "") + "\n\n" if rec.get("pieces_note") else "")
-                     + table(["piece", "time", "note"], rows))
-    if rec.get("notes"):
-        parts.append(rec["notes"])
     return "\n\n".join(parts)
-
-
-def lines_of(parts):
-    return ("\n".join(parts).rstrip() + "\n").count("\n")
 
 
 def page(folder=RUNS):
@@ -234,35 +244,20 @@ def page(folder=RUNS):
            "under the same conditions, and read a busy run as an upper bound. Budgets: "
            + BUDGETS + " How to record a run: `scripts/ci_times.py` (its docstring); the test "
            "tiers and labels: [development.md](development.md).", ""]
-    shown = runs[:TABLE_ROWS]
     out += ["## Recorded runs, newest first", "",
             table(["date", "command", "what ran", "commit", "machine; conditions", "total", "tests"],
                   [[r["date"][:10], KINDS.get(r["run"], r["run"]), r["what"], r["commit"],
                     f"{r['machine']}; {r['conditions']}", f"**{duration(r.get('total_s'))}**",
-                    tests_text(r)] for r in shown]), ""]
-    if len(runs) > len(shown):
-        out += [f"{len(runs) - len(shown)} older runs: `docs/ci_runs/`.", ""]
-    featured = []
-    for kind, title in (("full", "Where a full run's time goes"), ("quick", "The fast tier")):
-        measured = [r for r in runs if r["run"] == kind and (r.get("phases") or r.get("labels"))]
-        if measured:
-            featured.append(measured[0])
-            out += [f"## {title} (the newest measured run)", "", run_section(measured[0]), ""]
-    older = [r for r in runs if r not in featured
-             and (r.get("pieces") or r.get("phases") or r.get("labels") or r.get("notes"))]
-    # Earlier runs' sections fill what is left of the page, newest first (room kept for the
-    # heading and the closing line): recording a run must never push the page past the rule.
-    heading, sections, shown_older = ["## Earlier runs: pieces and notes", ""], [], 0
-    for r in older:
-        section = [run_section(r), ""]
-        if lines_of(out + heading + sections + section) + 2 > PAGE_LINES:
-            break
-        sections += section
-        shown_older += 1
-    if sections:
-        out += heading + sections
-    if shown_older < len(older):
-        out += [f"{len(older) - shown_older} older records with pieces: `docs/ci_runs/`.", ""]
+                    tests_text(r)] for r in runs]), "",
+            f"Only the newest {KEEP} records stay in `docs/ci_runs/` (and the newest of each kind "
+            "detailed below); every older run is in git: `git log --stat -- docs/ci_runs` lists "
+            "each record with the commit that added it, `git show <commit>:docs/ci_runs/<file>` "
+            "prints one.", ""]
+    titles = {"full": "Where a full run's time goes", "quick": "The fast tier"}
+    for kind in FEATURED:
+        newest = newest_measured(runs, kind)
+        if newest:
+            out += [f"## {titles[kind]} (the newest measured run)", "", run_section(newest), ""]
     return "\n".join(out).rstrip() + "\n"
 
 
@@ -280,7 +275,10 @@ def main(argv=None):
     ap.add_argument("--check", action="store_true", help="compare only; exit 1 on a difference")
     args = ap.parse_args(argv)
     if args.command == "record":
-        print(f"wrote {record(args.build, 'quick' if args.quick else 'full', args.what, args.conditions)}")
+        kind = "quick" if args.quick else "full"
+        print(f"wrote {record(args.build, kind, args.what, args.conditions, args.runs)}")
+        for path in prune(Path(args.runs)):
+            print(f"deleted {path} (older than the newest {KEEP}; commit the deletion, git keeps it)")
     return write_or_check(args.page, page(Path(args.runs)), args.check, "scripts/ci_times.py")
 
 

@@ -2,6 +2,7 @@
 run's log and ctest's JUnit become a record. Pure Python, no build."""
 
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -81,18 +82,55 @@ def test_a_stale_page_is_caught(tmp_path):
     assert ci_times.main(["--runs", str(runs), "--page", str(page), "--check"]) == 1
 
 
-def test_the_page_stays_within_the_docs_length_rule_however_many_runs_are_recorded(tmp_path):
-    """Recording a run once pushed the page to 433 lines and failed the docs' 400-line rule."""
+def records_at(runs, kinds_and_dates):
+    """Writes one record per (kind, date) into `runs`, copied from a committed one."""
+    template = json.loads(next((ROOT / "docs" / "ci_runs").glob("*full*.json")).read_text(encoding="utf-8"))
+    runs.mkdir(exist_ok=True)
+    for kind, date in kinds_and_dates:
+        rec = template | {"run": kind, "date": f"{date} 10:00 UTC"}
+        (runs / f"{date}-{kind}.json").write_text(json.dumps(rec), encoding="utf-8")
+
+
+def test_recording_keeps_the_newest_runs_and_the_newest_of_each_detailed_kind(tmp_path):
+    """History is git's: a new record deletes those older than the newest KEEP, but keeps the
+    newest quick run, which the page details and the README quotes, however old."""
     runs = tmp_path / "runs"
-    runs.mkdir()
-    records = [json.loads(p.read_text(encoding="utf-8"))
-               for p in sorted((ROOT / "docs" / "ci_runs").glob("*.json"))]
-    for copy in range(6):
-        for i, rec in enumerate(records):
-            date = f"2027-{copy + 1:02d}-{i % 28 + 1:02d}T10:00:00Z"
-            (runs / f"{copy}-{i}.json").write_text(json.dumps(rec | {"date": date}), encoding="utf-8")
-    text = ci_times.page(runs)
-    n_runs = 6 * len(records)
-    assert text.count("\n") <= ci_times.PAGE_LINES
-    assert f"{n_runs - ci_times.TABLE_ROWS} older runs: `docs/ci_runs/`." in text
-    assert "## Earlier runs: pieces and notes" in text and "older records with pieces" in text
+    records_at(runs, [("quick", "2027-01-01"), ("quick", "2027-01-02"), ("demo", "2027-01-03")]
+               + [("full", f"2027-02-{day:02d}") for day in range(1, ci_times.KEEP + 2)])
+    build = tmp_path / "build"
+    (build / "ci_times").mkdir(parents=True)
+    (build / "ci_times" / "full.txt").write_text(LOG.replace("2026-12-03", "2027-03-01"))
+    assert ci_times.main(["--runs", str(runs), "--page", str(tmp_path / "page.md"),
+                          "record", "--build", str(build), "--conditions", "quiet"]) == 0
+    newest_full = [f"2027-02-{day:02d}-full.json" for day in range(ci_times.KEEP + 1, 2, -1)]
+    assert sorted(p.name for p in runs.iterdir()) == sorted(
+        ["2027-03-01-1705-full-abc1234.json", *newest_full, "2027-01-02-quick.json"])
+    page = (tmp_path / "page.md").read_text()
+    assert "## The fast tier (the newest measured run)" in page
+    assert "`git log --stat -- docs/ci_runs`" in page
+
+
+def test_the_page_stays_within_the_docs_length_rule():
+    """The most the folder holds after a record (KEEP runs and an older quick one) fits the
+    docs' 400-line rule; the committed folder holds no more than that."""
+    committed = list((ROOT / "docs" / "ci_runs").glob("*.json"))
+    assert len(committed) <= ci_times.KEEP + len(ci_times.FEATURED) - 1
+    text = (ROOT / "docs" / "ci_times.md").read_text(encoding="utf-8")
+    assert text.count("\n") <= 400
+
+
+def readme_minutes():
+    """The README's "the full run takes about N minutes and `--quick` about M minutes"."""
+    text = " ".join((ROOT / "README.md").read_text(encoding="utf-8").split())
+    m = re.search(r"full run takes about (\d+) minutes and `--quick` about (\d+) minutes", text)
+    assert m, "README.md no longer states the test times in the words this test reads"
+    return {"full": int(m.group(1)), "quick": int(m.group(2))}
+
+
+def test_the_readme_states_the_recorded_times():
+    """The README's rounded times are the newest recorded full and quick runs' (within a
+    minute), the ones docs/ci_times.md details."""
+    runs = ci_times.load_runs(ROOT / "docs" / "ci_runs")
+    for kind, minutes in readme_minutes().items():
+        newest = ci_times.newest_measured(runs, kind)
+        assert abs(newest["total_s"] / 60 - minutes) < 1, (kind, minutes, newest["file"])
