@@ -19,8 +19,8 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 # Where mesh_path() looks, in order: the benchmark meshes (xz-compressed), then the small
-# meshes the tests and the samples already carry.
-MESH_FOLDERS = (HERE / "meshes", ROOT / "tests" / "data", ROOT / "blend_samples" / "meshes")
+# real meshes the tests and the sample scenes share (their one copy).
+MESH_FOLDERS = (HERE / "meshes", ROOT / "tests" / "data")
 UNPACKED = HERE / "results" / "cache" / "meshes"   # not committed (.gitignore)
 # The benchmark meshes' short names, one table for every script's --mesh/--cells/--meshes.
 MESH_FILES = {"koala": "koala.obj", "spot11k": "spot.obj", "spot": "spot_low_resolution.obj",

@@ -5,7 +5,8 @@ Shared by make_samples.py (inside Blender) and the demo (inside or outside Blend
 scenes and the demo select exactly the same vertices. NumPy only; no per-vertex loops.
 
 A scene (one entry of scenes.json) is plain data:
-  mesh       file under meshes/ (".off", ".obj") or "procedural:bar"
+  mesh       file under tests/data/ (".off", ".obj"; the one copy of the real meshes) or
+             "procedural:bar"
   frame      [[axis permutation / sign]] via "up": which mesh axis points up ("x","y","z","-y",...)
   handles    [{name, region, edit}], static region, stiffness {default, regions:[{region, value}]}
 Coordinates are normalised: bounding-box centre at the origin, longest side 2, up = +Z.
@@ -17,6 +18,9 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCENES_JSON = os.path.join(HERE, "scenes.json")
+# The real meshes the samples use live once, with the tests' (sources and licences in
+# tests/data/SOURCES.md).
+MESHES = os.path.join(os.path.dirname(HERE), "tests", "data")
 
 
 def load_scenes(path=SCENES_JSON):
@@ -77,7 +81,7 @@ def scene_mesh(scene):
         V, F = make_bar()
     else:  # the package's reader: OBJ/OFF/PLY, file vertex order kept
         from edgedeform.mesh_files import read_mesh
-        V, F = read_mesh(os.path.join(HERE, "meshes", src))
+        V, F = read_mesh(os.path.join(MESHES, src))
     return normalise(V, scene.get("up", "z")), F
 
 

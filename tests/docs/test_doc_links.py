@@ -15,8 +15,8 @@ ROOT = Path(__file__).resolve().parents[2]
 
 # README.md, docs/ (the decision records included) and the pages beside the data they describe.
 PAGES = sorted({ROOT / "README.md", *ROOT.glob("docs/**/*.md"), *ROOT.glob("blend_samples/*.md"),
-                *ROOT.glob("blend_samples/meshes/*.md"), *ROOT.glob("bench/meshes/*.md"),
-                *ROOT.glob("tests/data/*.md"), *ROOT.glob("demo/*.md")})
+                *ROOT.glob("bench/meshes/*.md"), *ROOT.glob("tests/data/*.md"),
+                *ROOT.glob("demo/*.md")})
 
 # [text](target) and ![alt](target), an optional "title" after the target; [name]: target
 INLINE = re.compile(r"!?\[(?:[^\[\]]|\[[^\]]*\])*\]\(\s*<?([^)\s>]+)>?(?:\s+\"[^\"]*\")?\s*\)")

@@ -14,6 +14,17 @@ SPOT = "spot_low_resolution.obj"      # closed, 829 vertices
 DINO = "cgal_dino.off"                # closed, the paper's Fig. 5 stand-in
 PEAKS = "cgal_three_peaks.off"        # bumpy, one boundary loop
 ALL = (PLANE, SPOT, DINO, PEAKS)
+HEAD = "cgal_mannequin-devil.off"     # open face mask, 12,977 vertices: the head sample (not in ALL: large)
+
+
+def source_counts():
+    """{file: (vertices, faces)} as tests/data/SOURCES.md's table states them."""
+    rows = {}
+    for line in (DATA / "SOURCES.md").read_text(encoding="utf-8").splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if line.startswith("|") and len(cells) > 3 and cells[2].replace(",", "").isdigit():
+            rows[cells[0]] = (int(cells[2].replace(",", "")), int(cells[3].replace(",", "")))
+    return rows
 
 
 @lru_cache(maxsize=None)

@@ -6,11 +6,9 @@ import numpy as np
 import pytest
 
 from edgedeform.mesh_files import MeshFormatError, read_mesh, write_mesh
-from _meshes import ALL, DATA
+from _meshes import ALL, DATA, HEAD, source_counts
 
-# vertex / face counts from tests/data/SOURCES.md
-COUNTS = {"spot_low_resolution.obj": (829, 1654), "cgal_plane.off": (841, 1600),
-          "cgal_three_peaks.off": (1907, 3671), "cgal_dino.off": (3916, 7828)}
+COUNTS = source_counts()
 
 
 def _first_vertex_lines(path, k):
@@ -25,7 +23,7 @@ def _first_vertex_lines(path, k):
     return np.array(out)
 
 
-@pytest.mark.parametrize("name", ALL)
+@pytest.mark.parametrize("name", ALL + (HEAD,))
 def test_reads_test_meshes_in_file_order(name):
     V, F = read_mesh(DATA / name)
     assert (len(V), len(F)) == COUNTS[name]

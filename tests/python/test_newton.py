@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import edgedeform as ed
-from _meshes import ALL, DINO, PEAKS, PLANE, SPOT, diag, lift, load, rotation, up_axis
+from _meshes import ALL, DINO, HEAD, PEAKS, PLANE, SPOT, diag, lift, load, rotation, up_axis
 
 DOMAINS = ("edge", "primal")
 
@@ -294,9 +294,7 @@ def test_head_repelling_fixed_point_is_reached_or_reported(domain):
     # eigenvalue of modulus 1.0074 (bench_spectrum.py): the plain iteration leaves it.
     # Newton either reaches a fixed point (a plain step from it moves less than the
     # tolerance) or says it did not; never a silent wrong claim.
-    from pathlib import Path
-    from edgedeform.mesh_files import read_mesh
-    V, F = read_mesh(Path(__file__).resolve().parents[2] / "blend_samples" / "meshes" / "cgal_mannequin-devil.off")
+    V, F = load(HEAD)
     h, s, t = lift(V)
     d = ed.Deformer(V, F, domain=domain)
     d.set_constraints(h, s)
