@@ -76,7 +76,7 @@ def dead_links(page):
 
 
 # A path from the repository root, as pages write them in `code`.
-REPO_PATH = re.compile(r"(?<![\w/.~-])((?:addon|bench|blend_samples|cmake|demo|docs|native|scripts|tests)/"
+REPO_PATH = re.compile(r"(?<![\w/.~-])((?:addon|bench|blend_samples|cmake|demo|docs|native|scripts|tests|\.ci|\.github)/"
                        r"[\w./<>*-]*[\w>*/])")
 # What the repository makes but does not commit (.gitignore): named, never present in a clone.
 MADE_NOT_COMMITTED = (re.compile(r"^bench/results/cache/"), re.compile(r"^blend_samples/[^/]+\.blend$"))
@@ -170,10 +170,11 @@ def test_the_check_finds_a_path_that_is_gone(monkeypatch):
     files, and what the repository makes but does not commit are not."""
     page = ROOT / "docs" / "design.md"
     text = ("`bench/report.py`, `tests/cpp/test_<file>.cpp`, `bench/results/cache/meshes/`, "
-            "`PYTHONPATH=build/python python3 bench/no_such_script.py`, `docs/gone/`\n")
+            "`PYTHONPATH=build/python python3 bench/no_such_script.py`, `docs/gone/`, "
+            "`bash .ci/run`, `.github/workflows/no_such.yml`\n")
     monkeypatch.setattr(Path, "read_text", lambda self, **kw: text if self == page else
                         Path.read_bytes(self).decode("utf-8"))
-    assert missing_paths(page) == ["bench/no_such_script.py", "docs/gone/"]
+    assert missing_paths(page) == ["bench/no_such_script.py", "docs/gone/", ".github/workflows/no_such.yml"]
 
 
 def history_has(commit):
