@@ -6,6 +6,14 @@ the lowest 20 % is static, the top 10 % is the handle.
 - "lift": the handle raised by a quarter of the bounding-box diagonal;
 - "twist": the handle turned 90° about the height axis through its centroid;
 - "bend": the handle turned 30° about the next axis (x after z) through its centroid.
+
+Regions along the longest bounding-box axis instead (held-out edits of record 0070: a limb or
+a head swung sideways; the lowest 20 % along that axis static, the top 10 % the handle, or
+with "_low" the other way round):
+- "side+", "side-", "side_low+", "side_low-": the handle moved by a quarter of the diagonal
+  along the second-longest axis, + or -;
+- "twist60": the handle turned 60° about the longest axis through its centroid;
+- "bend90": the handle turned 90° about the second-longest axis through its centroid.
 (bench_convergence.py once had its own twist, 60° about the longest axis, and its bend about
 the axis after that one: docs/decisions/0009-one-definition-per-edit.md.)
 """
@@ -23,7 +31,7 @@ ROOT = HERE.parent
 MESH_FOLDERS = (HERE / "meshes", ROOT / "tests" / "data")
 UNPACKED = HERE / "results" / "cache" / "meshes"   # not committed (.gitignore)
 # The benchmark meshes' short names, one table for every script's --mesh/--cells/--meshes.
-MESH_FILES = {"koala": "koala.obj", "spot11k": "spot.obj", "spot": "spot_low_resolution.obj",
+MESH_FILES = {"koala": "koala.obj", "koala5k": "koala_5k.obj", "koala12k": "koala_12k.obj", "spot11k": "spot.obj", "spot": "spot_low_resolution.obj",
               "dino": "cgal_dino.off", "head": "cgal_mannequin-devil.off", "plane": "cgal_plane.off"}
 TWIST_DEGREES = 90.0
 BEND_DEGREES = 30.0
@@ -134,10 +142,69 @@ def bend_edit(V, degrees=BEND_DEGREES):
     return turn_edit(V, 1, degrees)
 
 
-EDITS = {"lift": lift_edit, "twist": twist_edit, "bend": bend_edit}
+def long_regions(V, low_handle=False):
+    """(handles, static, axes by decreasing extent): along the longest axis, the top 10 % the
+    handle and the lowest 20 % static, or the lowest 10 % and the top 20 % with low_handle."""
+    order = np.argsort(-np.ptp(V, axis=0), kind="stable")
+    h = V[:, order[0]] * (-1.0 if low_handle else 1.0)
+    static = np.flatnonzero(h <= np.quantile(h, 0.2))
+    handles = np.flatnonzero(h >= np.quantile(h, 0.9))
+    return handles, static, order
+
+
+def side_edit(V, sign, low_handle=False):
+    handles, static, order = long_regions(V, low_handle)
+    targets = V[handles].copy()
+    targets[:, order[1]] += sign * 0.25 * diagonal(V)
+    return handles, static, targets, order[0]
+
+
+def long_turn_edit(V, which_axis, degrees):
+    """The handle turned about long_regions' axis `which_axis` (0 longest) through its centroid."""
+    handles, static, order = long_regions(V)
+    pivot = V[handles].mean(axis=0)
+    targets = (V[handles] - pivot) @ axis_rotation(order[which_axis], degrees).T + pivot
+    return handles, static, targets, order[0]
+
+
+EDITS = {"lift": lift_edit, "twist": twist_edit, "bend": bend_edit,
+         "side+": lambda V: side_edit(V, 1.0), "side-": lambda V: side_edit(V, -1.0),
+         "side_low+": lambda V: side_edit(V, 1.0, True), "side_low-": lambda V: side_edit(V, -1.0, True),
+         "twist60": lambda V: long_turn_edit(V, 0, 60.0), "bend90": lambda V: long_turn_edit(V, 1, 90.0)}
 
 
 def edit(V, name):
     """(handles, static, targets) of edit `name` on rest positions V."""
     handles, static, targets, _ = EDITS[name](V)
     return handles, static, targets
+
+
+def capped_cylinder(radius=0.04, length=1.0, around=24, along=240):
+    """A thin closed cylinder along z (record 0070's bent cylinder): `along` + 1 rings of
+    `around` vertices from z = 0 to `length`, each end closed by a fan about a centre vertex."""
+    t = 2 * np.pi * np.arange(around) / around
+    z = np.linspace(0.0, length, along + 1)
+    ring = np.column_stack([radius * np.cos(t), radius * np.sin(t)])
+    V = np.column_stack([np.tile(ring, (along + 1, 1)), np.repeat(z, around)])
+    V = np.vstack([V, [[0.0, 0.0, 0.0], [0.0, 0.0, length]]])
+    k = np.arange(around)
+    faces = []
+    for j in range(along):
+        a, b = j * around + k, j * around + (k + 1) % around
+        faces += [np.column_stack([a, b, b + around]), np.column_stack([a, b + around, a + around])]
+    bottom, top = len(V) - 2, len(V) - 1
+    faces.append(np.column_stack([np.full(around, bottom), (k + 1) % around, k]))
+    last = along * around
+    faces.append(np.column_stack([np.full(around, top), last + k, last + (k + 1) % around]))
+    return V, np.vstack(faces).astype(np.int64)
+
+
+GENERATED = {"cylinder": capped_cylinder}
+
+
+def load_mesh(short_name):
+    """(V, F) of a benchmark mesh by its short name: a file of MESH_FILES, or a generated one."""
+    if short_name in GENERATED:
+        return GENERATED[short_name]()
+    from edgedeform.mesh_files import read_mesh
+    return read_mesh(mesh_path(MESH_FILES[short_name]))
