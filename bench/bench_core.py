@@ -237,10 +237,8 @@ handles, static, targets, _ = lift_edit(V)
 d = ed.Deformer(V, F, domain={domain!r})
 d.set_constraints(handles=handles, static=static)
 d.set_stiffness({lam!r})
-# Newton without its Anderson lead-in, so that the 10 iterations factor the Newton matrix.
-options = dict(newton=ed.NewtonOptions(lead_in=0)) if {method!r} == "newton" else dict()
-r = d.solve(targets, max_iterations=10, tolerance=0.0, acceleration={method!r}, **options)
-print(r.newton_factorizations, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
+r = d.solve(targets, max_iterations=10, tolerance=0.0, acceleration={method!r})
+print(r.method, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
 """
 
 
@@ -292,22 +290,14 @@ def busy_ab(sizes, rounds):
 
 def peak_memory(size, domain, lam, method="anderson"):
     """Peak resident set (MB) of a fresh process that reads the mesh, builds one Deformer,
-    factors and runs 10 iterations of `method`: the memory one live session needs. Newton
-    starts without its lead-in, so its peak holds the Newton matrix and its factor.
-    The row (result["peak_memory"]): size, domain, lambda, method, peak_mb, and for Newton
-    newton_factorizations (at least 1, or its peak would be Anderson's)."""
+    factors and runs 10 iterations of `method`: the memory one live session needs.
+    The row (result["peak_memory"]): size, domain, lambda, method (asked), ran (the method
+    that ran: "auto" and "lbfgs" run Anderson below λ 1), peak_mb."""
     code = PEAK_SCRIPT.format(here=str(HERE), path=str(mesh_path(SIZES[size], MESHES)), domain=domain, lam=lam,
                               method=method)
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    factorizations, peak = out.stdout.split()[-2:]
-    row = {"size": size, "domain": domain, "lambda": lam, "method": method, "peak_mb": float(peak)}
-    if method == "newton":
-        row["newton_factorizations"] = int(factorizations)
-        if row["newton_factorizations"] < 1:
-            raise SystemExit(f"{size} {domain} λ {lam:g}: Newton factored nothing in 10 iterations"
-                             + (" (Newton steps are taken only at λ 1: measure its peak with --lambdas 1)"
-                                if lam < 1 else ""))
-    return row
+    ran, peak = out.stdout.split()[-2:]
+    return {"size": size, "domain": domain, "lambda": lam, "method": method, "ran": ran, "peak_mb": float(peak)}
 
 
 def run_roi(ed, repeat, domain="edge", lam=0.5):
@@ -383,17 +373,14 @@ def targets(rows, peaks=()):
                 if q.get("method", "anderson") == "anderson"}
     for q in peaks:
         method = q.get("method", "anderson")
-        how = "10 iterations" if method != "newton" else "10 iterations of Newton without its lead-in"
         line = (f"- Peak memory of one Deformer, {q['size']} {q['domain']} λ = {q['lambda']:g}, {method} "
-                f"(fresh process: mesh read, construction, factorization, {how}): "
+                f"(fresh process: mesh read, construction, factorization, 10 iterations): "
                 f"{q['peak_mb']:.0f} MB")
         if q["size"] == "140k" and method == "anderson":
             line += f" (≤ 1536: {'met' if q['peak_mb'] <= 1536 else '**missed**'})"
         base = anderson.get((q["size"], q["domain"], q["lambda"]))
-        if method == "newton" and base:
-            ratio = q["peak_mb"] / base
-            line += (f", {q['newton_factorizations']} factorizations of the Newton matrix; "
-                     f"{ratio:.2f}× Anderson's")
+        if method != "anderson" and base:
+            line += f" ({q.get('ran', method)}: {q['peak_mb'] / base:.2f}× Anderson's)"
         out.append(line + ".")
     for t in rows:
         if not (t["size"] == "140k" and t["domain"] == "edge" and t["lambda"] == 0.5):
@@ -524,7 +511,7 @@ def main(argv=None):
     p.add_argument("--peak", action="store_true",
                    help="only the peak memory of one Deformer per size/domain/λ, each in a fresh process")
     p.add_argument("--peak-methods", default="anderson",
-                   help="with --peak: the accelerations to measure (comma-separated: anderson,newton)")
+                   help="with --peak: the accelerations to measure (comma-separated: anderson,lbfgs)")
     p.add_argument("--roi", action="store_true",
                    help="only the region-of-interest comparison (results under 'roi')")
     p.add_argument("--meshes", default=None,

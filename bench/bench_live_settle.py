@@ -14,12 +14,12 @@ of 1e-10 diag). Not modelled: writing the shape into Blender's mesh each tick.
 
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_live_settle.py
         [--mesh koala] [--lam 0.5] [--domain edge] [--drag-ticks 30]
-        [--methods anderson,newton] [--json PATH]
+        [--methods auto,anderson] [--json PATH]
 
 --methods: the acceleration every tick's solve asks for (Deformer.solve's `acceleration`;
 anderson is the package's default, what the add-on's Automatic gets); a comma-separated
-list runs a row for each. Newton's Anderson lead-in (NewtonOptions.lead_in) counts the
-iterations since the targets were set, so its Newton steps come once the mouse stands still.
+list runs a row for each; "auto" (the default, what the add-on's Automatic gets) is L-BFGS at
+λ 1 and Anderson below, and the row's `ran` names what ran.
 --claims checked,unchecked: "checked" is the add-on's policy (settle.py: a still tick's solve
 checks a convergence claim, verify_claims); "unchecked" replays the policy before that
 check (a row each).
@@ -30,10 +30,10 @@ takes thousands of iterations; it is cached in bench/results/cache/ (not committ
 The JSON: {"machine", "command", "rows": [...]}, a row per mesh, λ, method and claims:
 mesh, vertices, domain, lambda, method, claims, threads (OMP_NUM_THREADS), rate_memory,
 finished (date), reference_iterations, reference_residual;
-drag: ticks, iterations, newton_steps, core_ms, distance_when_stopped (/ diag);
-settle: ticks, iterations, newton_steps, core_ms, wall_ms, cpu_ms, longest_tick_ms,
+drag: ticks, iterations, core_ms, distance_when_stopped (/ diag);
+settle: ticks, iterations, core_ms, wall_ms, cpu_ms, longest_tick_ms,
 claim_checks, refused_claims, converged, estimate, distance (/ diag), ms_per_iteration.
-core_ms is the core's own time: local + rhs + solve, and Newton's assembly and factorization.
+core_ms is the core's own time: local + rhs + solve.
 """
 
 import argparse
@@ -78,17 +78,16 @@ class TickResult:
         self.local_ms = sum(r.local_ms for r in results)
         self.rhs_ms = sum(r.rhs_ms for r in results)
         self.solve_ms = sum(r.solve_ms for r in results)
-        self.newton_ms = sum(r.assemble_ms + r.newton_factor_ms for r in results)
-        self.newton_steps = sum(r.newton_steps for r in results)
+        self.method = last.method
         self.claim_checks = sum(r.claim_checks for r in results)
         self.refused_claims = sum(r.refused_claims for r in results)
 
 
 def core_ms(r):
-    return float(r.local_ms + r.rhs_ms + r.solve_ms + r.newton_ms)
+    return float(r.local_ms + r.rhs_ms + r.solve_ms)
 
 
-def tick(d, targets, budget, moving=False, method="anderson", claims="checked"):
+def tick(d, targets, budget, moving=False, method="auto", claims="checked"):
     """One Live tick by the add-on's policy; claims "unchecked": its solves never check."""
     chunks = []
 
@@ -105,7 +104,7 @@ def tick(d, targets, budget, moving=False, method="anderson", claims="checked"):
     return TickResult(chunks), wall
 
 
-def run(mesh, domain, lam, drag_ticks, log, method="anderson", claims="checked"):
+def run(mesh, domain, lam, drag_ticks, log, method="auto", claims="checked"):
     import edgedeform as ed
     from edgedeform.mesh_files import read_mesh
     V, F = read_mesh(mesh_path(MESH_FILES[mesh]))
@@ -122,23 +121,21 @@ def run(mesh, domain, lam, drag_ticks, log, method="anderson", claims="checked")
     d.set_stiffness(lam)
     budget = settle.Settle(limit=10 ** 9)   # (this replay stops at MAX_SETTLE_TICKS)
     r = d.solve(V[handles], max_iterations=1, tolerance=TOLERANCE, warm_start=False)  # bind
-    drag = {"ticks": drag_ticks, "iterations": 0, "newton_steps": 0, "core_ms": 0.0}
+    drag = {"ticks": drag_ticks, "iterations": 0, "core_ms": 0.0}
     for k in range(1, drag_ticks + 1):       # the mouse moves: new targets every tick
         r, _ = tick(d, V[handles] + (k / drag_ticks) * (final - V[handles]), budget, True,
                     method, claims)
         drag["iterations"] += r.iterations
-        drag["newton_steps"] += r.newton_steps
         drag["core_ms"] += core_ms(r)
     drag["distance_when_stopped"] = float(
         np.linalg.norm(np.asarray(r.positions) - X_ref, axis=1).max() / dg)
-    rest = {"ticks": 0, "iterations": 0, "newton_steps": 0, "core_ms": 0.0, "wall_ms": 0.0, "cpu_ms": 0.0,
+    rest = {"ticks": 0, "iterations": 0, "core_ms": 0.0, "wall_ms": 0.0, "cpu_ms": 0.0,
             "longest_tick_ms": 0.0, "claim_checks": 0, "refused_claims": 0}
     c0 = time.process_time()
     while rest["ticks"] < MAX_SETTLE_TICKS:  # the mouse stopped
         r, wall = tick(d, final, budget, method=method, claims=claims)
         rest["ticks"] += 1
         rest["iterations"] += r.iterations
-        rest["newton_steps"] += r.newton_steps
         rest["core_ms"] += core_ms(r)
         rest["wall_ms"] += max(TIMER_MS, wall)
         rest["longest_tick_ms"] = max(rest["longest_tick_ms"], wall)
@@ -154,7 +151,7 @@ def run(mesh, domain, lam, drag_ticks, log, method="anderson", claims="checked")
     rest["distance"] = float(np.linalg.norm(np.asarray(r.positions) - X_ref, axis=1).max() / dg)
     rest["ms_per_iteration"] = rest["core_ms"] / max(1, rest["iterations"])
     out = {"mesh": mesh, "vertices": len(V), "domain": domain, "lambda": lam,
-           "method": method, "claims": claims,
+           "method": method, "ran": r.method, "claims": claims,
            "threads": os.environ.get("OMP_NUM_THREADS", "default"), "rate_memory": RATE_MEMORY,
            "finished": machine_info()["date"],
            "reference_iterations": ref_its, "reference_residual": ref_res,
@@ -176,10 +173,9 @@ def markdown(result):
         "solve's fixed point, / diag (reference: bench_convergence.py's long run, as for "
         "the koala row there; its iterations and final residual are in the JSON).",
         "",
-        "Method: the acceleration of every tick's solve (anderson: the package's default). "
-        "Newton's Anderson lead-in counts from the last move of the targets, so its Newton "
-        "steps (drag / settle) come after the mouse stops; 'core s' and 'core ms/it' include "
-        "its assembly and factorization of the Newton matrix. A true distance in bold is a "
+        "Method: the acceleration every tick's solve asks for (auto: the package's default and "
+        "the add-on's Automatic; in brackets the method that ran: L-BFGS at λ 1, Anderson "
+        "below). A true distance in bold is a "
         f"settle claimed farther than the tolerance ({TOLERANCE:g}) from the reference.",
         "",
         "Claims checked (the add-on's policy, record 0027): a tick whose targets stand still "
@@ -190,17 +186,16 @@ def markdown(result):
         "at λ 0.5 the koala's reference is itself no fixed point (its run ends at a residual "
         "of about 2e-6; record 0016), so its distance there is no verdict.",
         "",
-        "| mesh | vertices | domain | λ | method | claims | Newton steps | drag ticks | drag core s | "
+        "| mesh | vertices | domain | λ | method (ran) | claims | drag ticks | drag core s | "
         "distance when stopped | settle ticks | settle iterations | checks (refused) | "
         "longest tick ms | core ms/it | settle wall s | converged | estimate | true distance |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         s = r["settle"]
         lines.append(
             f"| {r['mesh']} | {r['vertices']:,} | {r['domain']} | {r['lambda']:g} | "
-            f"{r['method']} | {r['claims']} | "
-            f"{r['drag']['newton_steps']} / {s['newton_steps']} | "
+            f"{r['method']} ({r.get('ran', r['method'])}) | {r['claims']} | "
             f"{r['drag']['ticks']} | {r['drag']['core_ms'] / 1e3:.2f} | "
             f"{r['drag']['distance_when_stopped']:.1e} | {s['ticks']} | {s['iterations']} | "
             + f"{s['claim_checks']} ({s['refused_claims']}) | {s['longest_tick_ms']:.0f} | "
@@ -213,7 +208,7 @@ def markdown(result):
         if r["vertices"] >= 40000:
             s = r["settle"]
             met = s["converged"] and s["wall_ms"] <= 1000.0
-            verdicts.append(f"{r['mesh']} λ {r['lambda']:g}, {r['method']}, "
+            verdicts.append(f"{r['mesh']} λ {r['lambda']:g}, {r['method']} ({r.get('ran', r['method'])}), "
                             f"claims {r['claims']}: "
                             f"{'settled' if s['converged'] else 'not settled'} after "
                             f"{s['wall_ms'] / 1e3:.1f} s ({s['iterations']} iterations) — "
@@ -230,8 +225,8 @@ def main(argv=None):
     ap.add_argument("--domain", default="edge")
     ap.add_argument("--lam", default="0.5", help="stiffness λ (comma-separated: a row each)")
     ap.add_argument("--drag-ticks", type=int, default=30)
-    ap.add_argument("--methods", default="anderson",
-                    help="accelerations of the ticks' solves, a row each (comma-separated: anderson,newton)")
+    ap.add_argument("--methods", default="auto",
+                    help="accelerations of the ticks' solves, a row each (comma-separated: auto,anderson)")
     ap.add_argument("--claims", default="checked",
                     help="checked (the add-on's policy: still ticks check a convergence claim "
                          "by Arnoldi on J_G, verify_claims), unchecked (comma-separated)")

@@ -205,7 +205,7 @@ def main(argv=None):
     p.add_argument("--timeout", type=float, default=3600, help="seconds per child")
     p.add_argument("--acceleration", default="anderson",
                    help="ours: the accelerated method measured beside the plain one (any the build "
-                        "accepts, e.g. newton)")
+                        "accepts, e.g. anderson)")
     p.add_argument("--build", default=str(ROOT / "build"))
     p.add_argument("--cgal-bin", default=None)
     p.add_argument("--venv", default=None, help="venv with libigl (default build/peers-venv)")

@@ -145,13 +145,6 @@ def welding_members(ed):
     return member_table("Welding", ed.Welding, "`Welding` member")
 
 
-def newton_options(ed):
-    params, text = documented("ed", "NewtonOptions", ed.NewtonOptions)
-    init, _ = doc_parts(ed.NewtonOptions.__init__)
-    return ("```python\n" + call("ed.NewtonOptions", init or []) + "\n```\n\n"
-            + member_table("NewtonOptions", ed.NewtonOptions, "`NewtonOptions` member"))
-
-
 def metrics_help(ed):
     params, text = documented("ed", "metrics", ed.metrics)
     return "```\n" + call("ed.metrics", params) + "\n\n" + text + "\n```"
@@ -195,7 +188,6 @@ BLOCKS = {
     "deformer-members": deformer_members,
     "result-fields": result_fields,
     "welding-members": welding_members,
-    "newton-options": newton_options,
     "metrics": metrics_help,
     "cli-usage": cli_usage,
     "cli-options": cli_options,

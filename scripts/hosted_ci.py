@@ -8,7 +8,7 @@ and here (no bash, no ctest, no Blender install on the runner: `bpy` comes from 
         as the `addon_extension` targets stage theirs
     hosted_ci.py pytest WHEEL_DIR [--work DIR]
         a fresh venv on this Python with its wheel (+ NumPy, SciPy, pytest from the index),
-        then tests/python (but the long test_newton.py) against that installed package
+        then tests/python (but the long test_solver_methods.py) against that installed package
     hosted_ci.py bpy SERIES ZIP [--work DIR] [--python VENV_PYTHON]
         a venv with Blender SERIES as `bpy` (or an existing one), then Blender's
         `extension validate` of ZIP and the add-on's bpy suites on the installed zip
@@ -87,7 +87,7 @@ def pytest_step(args):
     assert str(work / "venv") in where, "edgedeform is not the installed wheel: " + where
     tests = ROOT / "tests" / "python"
     run(python, "-m", "pytest", "-q", "-p", "no:cacheprovider",
-        "--ignore", tests / "test_newton.py", tests, cwd=work, env=env)
+        "--ignore", tests / "test_solver_methods.py", tests, cwd=work, env=env)
 
 
 def bpy_step(args):

@@ -167,9 +167,10 @@ def controller_state(ob, inputs):
         for g in inputs.handle_groups)
 
 
-# Accelerations of the solve, fastest first: (property item, the package's name). The
-# add-on offers those of them that this build of the package has (its ACCELERATIONS).
-ACCELERATIONS = (('NEWTON', "newton"), ('ANDERSON', "anderson"), ('NONE', "none"))
+# The accelerations an artist may pick besides Automatic: (property item, the package's
+# name). The add-on offers those of them that this build of the package has (its
+# ACCELERATIONS).
+ACCELERATIONS = (('ANDERSON', "anderson"), ('NONE', "none"))
 # Drawn when the package cannot load (the first solve then reports why).
 _WITHOUT_PACKAGE = ["anderson", "none"]
 
@@ -184,22 +185,12 @@ def offered_accelerations():
     return [name for _, name in ACCELERATIONS if name in known]
 
 
-def default_acceleration():
-    """The package's own default acceleration (edgedeform.SOLVE_DEFAULTS), so that Solve
-    with the add-on's defaults solves as the Python API's solve does."""
-    offered = offered_accelerations()
-    try:
-        name = native.get().SOLVE_DEFAULTS["acceleration"]
-    except ImportError:
-        name = offered[0]
-    return name if name in offered else offered[0]
-
-
 def acceleration(settings):
-    """The package's name for the settings' acceleration (an Acceleration stored in a file
-    from a build that had a method this one lacks reads as the package's default)."""
+    """The package's name for the settings' acceleration, or None where the package's own
+    measured rule decides: Automatic, and a method stored in a file by a build that had one
+    this build lacks (Newton, retired in docs/decisions/0070)."""
     name = dict(ACCELERATIONS).get(settings.acceleration)
-    return name if name in offered_accelerations() else default_acceleration()
+    return name if name in offered_accelerations() else None
 
 
 def solve_report(result, waited_s, iterations):

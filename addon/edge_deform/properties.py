@@ -16,16 +16,16 @@ IDENTITY = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0),
             (0.0, 0.0, 1.0, 0.0), (0.0, 0.0, 0.0, 1.0))
 
 
-# (identifier, name, description, number): the number is what a file stores. Newton is
-# listed only when this build of the package solves with it (engine.offered_accelerations).
-# Automatic, the default, names no method: the package's default rule picks one for the
-# mesh (solve_method.py).
-_AUTOMATIC_ITEM = (solve_method.AUTOMATIC, "Automatic", "The method the installed package "
-                   "finds fastest for this mesh and stiffness (its default)", 3)
+# (identifier, name, description, number): the number is what a file stores (2 was Newton,
+# retired in record 0070: a file that stored it reads as Automatic, engine.acceleration).
+# A method is listed only when this build of the package solves with it
+# (engine.offered_accelerations). Automatic, the default, names no method: the package's
+# measured rule picks one (solve_method.py).
+_AUTOMATIC_ITEM = (solve_method.AUTOMATIC, "Automatic", "The package's measured rule: "
+                   "quasi-Newton steps where Stiffness is 1 everywhere, else Anderson", 3)
 _ACCELERATION_ITEMS = {
-    "newton": ('NEWTON', "Newton", "Newton steps on the same shape: fewest passes, each "
-               "dearer", 2),
-    "anderson": ('ANDERSON', "Fast", "Reaches the same shape in fewer passes", 0),
+    "anderson": ('ANDERSON', "Anderson", "Anderson-accelerated steps at any stiffness "
+                 "(Automatic's choice below Stiffness 1)", 0),
     "none": ('NONE', "Plain", "One plain pass at a time: slower, for comparison", 1)}
 
 

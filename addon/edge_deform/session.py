@@ -168,7 +168,7 @@ class Binding:
     def solve(self, targets, iterations, tolerance, acceleration, warm=True, initial=None,
               check_claims=True):
         """One solve call. acceleration: the package's name of a method, or None: the
-        package's own default rule chooses (docs/decisions/0043). warm: continue from the
+        package's measured rule chooses (docs/decisions/0043, 0070). warm: continue from the
         previous solve unless a cold start is due (with unchanged targets that continues
         the same accelerated iteration, so repeated short calls settle on the one long
         call's shape). check_claims: a convergence claim is first checked against J_G's

@@ -3,7 +3,7 @@
 Runs against whatever the built package offers: when Deformer.solve accepts an
 `acceleration` argument, the plain iteration is measured with acceleration="none" and the
 accelerated one (--acceleration, "anderson" unless another method the build accepts is
-named, e.g. "newton") is measured too (iterations to eps from cold solves, and the live
+named, e.g. "anderson") is measured too (iterations to eps from cold solves, and the live
 update); otherwise only the plain iteration exists and is measured.
 
     PYTHONPATH=build/python:bench /usr/bin/python3 -m peers.run_edgedeform PROBLEM \

@@ -32,35 +32,6 @@ py::array_t<int64_t> int_matrix(const RowMatrixX2i& M) {
 void bind_solve(py::module_& m, py::class_<Deformer>& deformer);
 
 void bind_deformer(py::module_& m) {
-  py::class_<NewtonOptions>(m, "NewtonOptions", "Settings of the Newton method (acceleration=\"newton\").")
-      .def(py::init([](int lead_in, const std::string& projection, bool lifted) {
-             if (lead_in < 0) throw std::invalid_argument("lead_in must be at least 0, got " + std::to_string(lead_in));
-             if (projection != "ladder" && projection != "full")
-               throw std::invalid_argument("projection must be \"ladder\" or \"full\", got \"" + projection + "\"");
-             NewtonOptions o;
-             o.lead_in = lead_in;
-             o.ladder = projection == "ladder";
-             o.lifted = lifted;
-             return o;
-           }),
-           py::arg("lead_in") = NewtonOptions{}.lead_in,
-           py::arg("projection") = std::string(NewtonOptions{}.ladder ? "ladder" : "full"),
-           py::arg("lifted") = NewtonOptions{}.lifted,
-           R"doc(lead_in: Anderson iterations before the first Newton step of a cold or moved-target start.
-projection, lifted: for the diagnostic that chose the method (bench/bench_newton.py): at
-    lambda 1, "ladder" projects only the terms below a level that factors, "full" uses K
-    where it factors and else projects every indefinite term; lifted trials move along the
-    step's rotation response, else straight.)doc")
-      .def_readonly("lead_in", &NewtonOptions::lead_in, "Anderson iterations before the first Newton step")
-      .def_property_readonly(
-          "projection", [](const NewtonOptions& o) { return std::string(o.ladder ? "ladder" : "full"); },
-          "\"ladder\" or \"full\"")
-      .def_readonly("lifted", &NewtonOptions::lifted, "trials lifted into the fit")
-      .def("__repr__", [](const NewtonOptions& o) {
-        return "NewtonOptions(lead_in=" + std::to_string(o.lead_in) + ", projection='" + (o.ladder ? "ladder" : "full") +
-               "', lifted=" + (o.lifted ? "True" : "False") + ")";
-      });
-
   py::class_<SolveResult>(m, "SolveResult", "Result of Deformer.solve.")
       .def_readonly("positions", &SolveResult::positions, "(n, 3) float64: every vertex, constrained ones included")
       .def_readonly("iterations", &SolveResult::iterations, "global steps taken in this call")
@@ -75,18 +46,15 @@ projection, lifted: for the diagnostic that chose the method (bench/bench_newton
                     "the estimated largest vertex distance to the fixed point is below tolerance * diagonal")
       .def_readonly("distance_estimate", &SolveResult::distance_estimate,
                     "estimated largest vertex distance of positions to the fixed point / diagonal (inf: unknown)")
-      .def_readonly("accelerated_steps", &SolveResult::accelerated_steps, "Anderson steps kept")
+      .def_readonly("method", &SolveResult::method,
+                    "the strategy that ran: \"lbfgs\", \"anderson\" or \"none\" (\"auto\" resolved)")
+      .def_readonly("accelerated_steps", &SolveResult::accelerated_steps,
+                    "Anderson steps kept, or L-BFGS steps taken")
       .def_readonly("rejected_steps", &SolveResult::rejected_steps,
-                    "Anderson steps discarded by the safeguard (the plain step was taken instead)")
-      .def_readonly("newton_steps", &SolveResult::newton_steps, "Newton steps taken")
-      .def_readonly("line_search_failures", &SolveResult::line_search_failures,
-                    "Newton steps whose line search failed (plain steps were taken instead)")
-      .def_readonly("newton_factorizations", &SolveResult::newton_factorizations,
-                    "Newton: factorizations of the Newton matrix (failed ones included)")
-      .def_readonly("newton_fallbacks", &SolveResult::newton_fallbacks,
-                    "Newton: 1 when its steps stopped lowering the merit and Anderson finished")
-      .def_readonly("assemble_ms", &SolveResult::assemble_ms, "Newton: total ms assembling the Newton matrix")
-      .def_readonly("newton_factor_ms", &SolveResult::newton_factor_ms, "Newton: total ms factoring the Newton matrix")
+                    "Anderson steps discarded by the safeguard, or L-BFGS directions that failed their line search "
+                    "(the plain step was taken instead)")
+      .def_readonly("line_search_fits", &SolveResult::line_search_fits,
+                    "L-BFGS: local fits of its line search beyond one per iteration")
       .def_readonly("claim_checks", &SolveResult::claim_checks, "Arnoldi checks of a convergence claim (verify_claims)")
       .def_readonly("refused_claims", &SolveResult::refused_claims, "... after which the claim was refused")
       .def_readonly("warnings", &SolveResult::warnings,
@@ -229,11 +197,11 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
       .def("_one_step", [](Deformer& d, const py::handle& X) { return d.one_step_map(to_points(X, "X")); },
            "G(X) over the free vertices (#free, 3)")
       .def("_jacobian",
-           [](Deformer& d, const py::handle& X, const Eigen::MatrixXd& dX, bool newton_operator) {
-             return d.jacobian_product(to_points(X, "X"), dX, newton_operator);
+           [](Deformer& d, const py::handle& X, const Eigen::MatrixXd& dX, bool k_product) {
+             return d.jacobian_product(to_points(X, "X"), dX, k_product);
            },
-           py::arg("X"), py::arg("dX"), py::arg("newton_operator") = false,
-           "J_G dX at X (analytic), or K dX = A (I - J_G) dX with newton_operator")
+           py::arg("X"), py::arg("dX"), py::arg("k_product") = false,
+           "J_G dX at X (analytic), or K dX = A (I - J_G) dX with k_product")
       .def("_local_fit",
            [](Deformer& d, const py::handle& X) {
              const LocalFit fit = d.local_fit_at(to_points(X, "X"));
@@ -258,13 +226,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
              return d.global_step_with(to_points(X, "X"), rotation, scale);
            },
            py::arg("X"), py::arg("rotations"), py::arg("scales"),
-           "the global step's free positions (#free, 3) for these rotations and scales, X's fixed rows")
-      .def("_newton_matrix_coo",
-           [](Deformer& d, const py::handle& X, double projection) {
-             return to_coo(d.newton_matrix_at(to_points(X, "X"), projection));
-           },
-           py::arg("X"), py::arg("projection") = 0.0,
-           "the Newton matrix K at X as COO (3 #free square; row 3 v + c is coordinate c of free vertex v)");
+           "the global step's free positions (#free, 3) for these rotations and scales, X's fixed rows");
 }
 
 }  // namespace edgedeform::bindings

@@ -21,7 +21,7 @@ namespace edgedeform::bindings {
 
 namespace {
 
-// A field of SolveOptions (or of an options struct inside it: OPTION(newton.lead_in)).
+// A field of SolveOptions.
 #define OPTION(path) [](auto& o) -> auto& { return o.path; }
 
 // solve()'s keyword arguments after `targets`, in the order of its positional parameters.
@@ -33,18 +33,17 @@ void visit_solve_options(Visit&& option) {
          "times the rest bounding-box diagonal; then result.converged is True.");
   option("warm_start", OPTION(warm_start),
          "start from the previous solve's shape; with unchanged targets this continues the same "
-         "iteration (Anderson history included), so repeated short calls settle on the cold "
-         "solve's shape.");
+         "iteration (Anderson history or L-BFGS pairs included), so repeated short calls settle on "
+         "the cold solve's shape.");
   option("initial", OPTION(initial), "(n, 3) positions to start from instead (a local step on them first), or None.");
   option("acceleration", OPTION(acceleration),
          "how the fixed point is reached; each method ends at a fixed point of the same map (where "
          "the energy has several near one another, methods can end at different ones):");
   option("anderson_window", OPTION(anderson_window), "how many past iterates Anderson acceleration combines (1..50).");
   option("verify_claims", OPTION(verify_claims),
-         "plain/Anderson: before claiming convergence, estimate J_G's largest modulus by 30 "
-         "Arnoldi steps at the point (each a back-substitution) and claim only if the distance "
-         "bound with it holds too (a secant estimate can miss a slow mode).");
-  option("newton", OPTION(newton), "the Newton method's settings, a NewtonOptions (None: its defaults).");
+         "before claiming convergence, estimate J_G's largest modulus by 30 Arnoldi steps at the "
+         "point (each a back-substitution) and claim only if the distance bound with it holds too "
+         "(a secant estimate can miss a slow mode).");
 }
 
 #undef OPTION
@@ -55,8 +54,9 @@ struct Method {
   const char* doc;
 };
 const Method kMethods[] = {
-    {Acceleration::Newton, "an Anderson lead-in, then projected Newton steps, each a sparse factorization of the "
-                           "Newton matrix (settings in `newton`)"},
+    {Acceleration::Automatic, "the measured rule: \"lbfgs\" where stiffness is 1 on every vertex, else \"anderson\""},
+    {Acceleration::Lbfgs, "L-BFGS on the energy, the plain step its first direction, with a line search (needs "
+                          "stiffness 1 on every vertex: else runs \"anderson\" and warns)"},
     {Acceleration::Anderson, "Anderson-accelerated local/global"},
     {Acceleration::None, "the plain local/global method"},
 };
@@ -73,21 +73,9 @@ T cast_argument(const py::handle& value, const char* name, const std::string& ty
   }
 }
 
-// An options struct inside SolveOptions, bound as a Python class (NewtonOptions): None stands
-// for its defaults, and is what SOLVE_DEFAULTS and help() show.
+// How each field's type meets Python (a specialization per type).
 template <class T>
-struct Codec {
-  static std::string type() {
-    const py::handle cls = py::type::of<T>();
-    return "Optional[" + std::string(py::str(cls.attr("__module__"))) + "." +
-           std::string(py::str(cls.attr("__qualname__"))) + "]";
-  }
-  static py::object to_python(const T&) { return py::none(); }
-  static T from_python(const py::handle& h, const char* name) {
-    if (h.is_none()) return T{};
-    return cast_argument<T>(h, name, "a " + std::string(py::str(py::type::of<T>().attr("__name__"))) + " or None");
-  }
-};
+struct Codec;
 
 template <>
 struct Codec<int> {

@@ -13,8 +13,8 @@ std::function<bool()> SignalCheck::callback() {
 
 bool SignalCheck::poll() {
   // Once seen, a stop request holds until raised: a caller that only breaks its own loop
-  // (FGMRES) must not use it up before the one that throws asks (measured: Ctrl-C during a
-  // Newton solve was lost there, and the solve ran on for a minute).
+  // must not use it up before the one that throws asks (measured when an inner solver loop
+  // polled it: Ctrl-C was lost there, and the solve ran on for a minute).
   if (pending_) return true;
   const auto now = std::chrono::steady_clock::now();
   if (now - last_check_ < interval_) return false;

@@ -20,15 +20,15 @@ def test_one_row_with_every_timing(tmp_path):
     assert "| 1k | spot_low_resolution.obj | 829 | edge | 0.5 |" in bench_core.markdown(result)
 
 
-def test_peak_memory_of_anderson_and_newton(tmp_path):
-    """--peak: one fresh process per method; Newton's peak holds a factor of its matrix (at
-    lambda 1: below it Newton takes no step)."""
+def test_peak_memory_of_anderson_and_lbfgs(tmp_path):
+    """--peak: one fresh process per method, each naming the method that ran (L-BFGS at
+    lambda 1) and compared with Anderson's peak."""
     out = tmp_path / "core.json"
     run("bench_core.py", "--peak", "--sizes", "1k", "--domains", "edge", "--lambdas", "1",
-        "--peak-methods", "anderson,newton", "--json", out)
-    anderson, newton = load(out)["peak_memory"]
-    assert (anderson["method"], newton["method"]) == ("anderson", "newton")
-    assert finite(anderson["peak_mb"], newton["peak_mb"]) and anderson["peak_mb"] > 0
-    assert newton["newton_factorizations"] >= 1
+        "--peak-methods", "anderson,lbfgs", "--json", out)
+    anderson, lbfgs = load(out)["peak_memory"]
+    assert (anderson["method"], lbfgs["method"]) == ("anderson", "lbfgs")
+    assert (anderson["ran"], lbfgs["ran"]) == ("anderson", "lbfgs")
+    assert finite(anderson["peak_mb"], lbfgs["peak_mb"]) and anderson["peak_mb"] > 0
     import bench_core
-    assert "newton (fresh process:" in bench_core.targets([], load(out)["peak_memory"])
+    assert "× Anderson's" in bench_core.targets([], load(out)["peak_memory"])

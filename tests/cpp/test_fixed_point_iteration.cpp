@@ -7,69 +7,15 @@
 
 #include <memory>
 
-#include "constrained_grid.h"
 #include "edgedeform/convergence.h"
-#include "edgedeform/deformer.h"
 #include "edgedeform/errors.h"
 #include "edgedeform/fixed_point_iteration.h"
-#include "edgedeform/newton_factor.h"
-#include "edgedeform/sparse_cholesky.h"
+#include "grid_problem.h"
 
 using namespace edgedeform;
+using edgedeform::test::GridProblem;
 
 namespace {
-
-// The local/global map of the grid's whole set at one lambda, as the Deformer offers it.
-struct GridProblem final : FixedPointProblem {
-  test::ConstrainedGrid grid;
-  ConstrainedSystem sys;
-  AssembledSystem as;
-  SparseCholesky cholesky;
-  NewtonFactor newton;
-  RowMatrixX3d x_local, nodes;
-  Eigen::MatrixXd c;
-  double diag = 0.0;
-  int interrupt_after = -1, asked = 0;  // >= 0: ask to stop at that question
-
-  GridProblem(Domain domain, double lambda) : grid(domain) {
-    sys = grid.whole(grid.whole_sets);
-    as = assemble_system(sys, Eigen::VectorXd::Constant(grid.g.n_vertices, lambda));
-    cholesky.factorize(as.A);
-    const int nf = sys.n_free(), nc = sys.n_fixed();
-    RowMatrixX3d constrained = grid.mesh.V;
-    const RowMatrixX3d t = grid.targets(grid.whole_sets, 0.4);
-    for (size_t h = 0; h < sys.handles.size(); ++h) constrained.row(sys.handles[h]) = t.row(static_cast<Eigen::Index>(h));
-    x_local.resize(nf + nc, 3);
-    for (int k = 0; k < nc; ++k) x_local.row(nf + k) = constrained.row(sys.fixed_vertices[static_cast<size_t>(k)]);
-    c = -(as.K_fixed * x_local.bottomRows(nc));
-    diag = (grid.mesh.V.colwise().maxCoeff() - grid.mesh.V.colwise().minCoeff()).norm();
-  }
-  Eigen::MatrixXd rest_free() const {
-    Eigen::MatrixXd y(sys.n_free(), 3);
-    for (int k = 0; k < sys.n_free(); ++k) y.row(k) = grid.mesh.V.row(sys.free_vertices[static_cast<size_t>(k)]);
-    return y;
-  }
-  double local_fit(const Eigen::MatrixXd& y, LocalFit& fit) override {
-    x_local.topRows(y.rows()) = y;
-    stencil_node_positions(sys, x_local, nodes);
-    fit_local(sys.stencil, nodes, as.term_lambda, fit, as.term_similar);
-    return fit.energy;
-  }
-  void global_step(const LocalFit& fit, Eigen::MatrixXd& rhs, Eigen::MatrixXd& g) override {
-    as.H.apply(fit.rotation, fit.scale, c, rhs);
-    cholesky.solve(rhs, g);
-  }
-  void solve_A(const Eigen::MatrixXd& r, Eigen::MatrixXd& z) override { cholesky.solve(r, z); }
-  const SparseMatrix& A() const override { return as.A; }
-  std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit, double projection) override {
-    return std::make_unique<FixedPointLinearization>(sys, as, fit, nodes, projection);
-  }
-  bool factor_newton(const LocalFit& fit, double projection) override {
-    return newton.factor(FixedPointLinearization(sys, as, fit, nodes, projection));
-  }
-  void solve_newton(const Eigen::MatrixXd& b, Eigen::MatrixXd& delta) override { newton.solve(b, delta); }
-  bool interrupt_requested() override { return interrupt_after >= 0 && asked++ >= interrupt_after; }
-};
 
 // A cold run: y at rest, R = I, s = 1 (not a fit of y).
 struct ColdRun {
@@ -77,12 +23,8 @@ struct ColdRun {
   LocalFit fit;
   PlainAndersonMemory memory;
   SolveResult result;
-  ColdRun(GridProblem& p, int window) {
+  ColdRun(GridProblem& p, int window) : fit(test::cold_fit(p.sys)) {
     point.y = p.rest_free();
-    const auto T = static_cast<size_t>(p.sys.n_terms());
-    fit.rotation.assign(T, Eigen::Matrix3d::Identity());
-    fit.right_vectors.assign(T, Eigen::Matrix3d::Identity());
-    fit.scale = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(T));
     memory.restart(p.sys.n_free(), window);
   }
   void go(GridProblem& p, const PlainAndersonSettings& s) {

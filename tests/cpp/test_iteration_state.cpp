@@ -61,9 +61,8 @@ TEST(IterationState, ARestartKeepsTheLastPositionsOnlyWhenAskedAndStillValid) {
 
 TEST(IterationState, ARestartResetsTheStrategiesState) {
   IterationState state = finished_at(rows(1, 1.0), {0, 2});
-  state.newton_valid = true;
-  state.lead_in_iterations = 40;
+  state.last_method = Acceleration::Lbfgs;
   state.restart(rows(1, 2.0), rows(4, 0.0), {0, 2}, true, 5);
-  EXPECT_FALSE(state.newton_valid);
-  EXPECT_EQ(state.lead_in_iterations, 0);
+  EXPECT_EQ(state.last_method, Acceleration::Automatic);  // no strategy has moved the new iteration
+  EXPECT_FALSE(state.point.fitted);
 }

@@ -15,7 +15,7 @@ def test_solve_shows_arguments_shapes_and_defaults():
     for part in ("targets: numpy.ndarray[float64[h, 3]]", "max_iterations: int = 2000",
                  "tolerance: float = 0.001", "warm_start: bool = True",
                  "initial: Optional[numpy.ndarray[float64[n, 3]]] = None",
-                 "acceleration: str = 'anderson'", "anderson_window: int = 5",
+                 "acceleration: str = 'auto'", "anderson_window: int = 5",
                  "-> edgedeform._core.SolveResult", "bounding-box diagonal"):
         assert part in doc, part
 

@@ -9,7 +9,9 @@
 
 #include <Eigen/Core>
 
+#include "edgedeform/convergence.h"
 #include "edgedeform/fixed_point_problem.h"
+#include "edgedeform/solve_types.h"
 
 namespace edgedeform {
 
@@ -27,5 +29,13 @@ double largest_ritz_modulus(const std::function<void(const Eigen::MatrixXd&, Eig
 // Deterministic; asks the problem's interrupt between products.
 double largest_jacobian_modulus(FixedPointProblem& problem, const LocalFit& fit, const Eigen::MatrixXd& residual,
                                 int steps = kClaimCheckSteps);
+
+// What every strategy asks after its global step g = G(y) (residual r = |g - y| / diag):
+// the estimated distance of g to the fixed point, infinite unless (y, g) is a map pair (fit
+// = fit(y)). With `verify_claims`, an estimate below `tolerance` is checked first (the rate
+// raised to the Arnoldi modulus; result.claim_checks, refused_claims counted).
+double checked_distance(FixedPointProblem& problem, ConvergenceMonitor& monitor, const LocalFit& fit,
+                        const Eigen::MatrixXd& y, const Eigen::MatrixXd& g, double r, bool map_pair,
+                        bool verify_claims, double tolerance, SolveResult& result);
 
 }  // namespace edgedeform

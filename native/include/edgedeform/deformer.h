@@ -5,8 +5,8 @@
 // It wires the core's parts together, as libigl's arap_precomputation / arap_solve pair:
 // the precomputation (ensure_factored, on the first solve after a change) takes the
 // operators from operator_cache.h and their factor from factor_cache.h; solve() starts from
-// warm_state.h and runs a strategy, plain/Anderson (fixed_point_iteration.h) or projected
-// Newton (projected_newton.h, after an Anderson lead-in), on one FixedPointProblem.
+// warm_state.h and runs a strategy, plain/Anderson (fixed_point_iteration.h) or L-BFGS
+// (quasi_newton.h), on one FixedPointProblem.
 #pragma once
 
 #include <memory>
@@ -18,7 +18,6 @@
 #include "edgedeform/mesh_incidence.h"
 #include "edgedeform/factor_cache.h"
 #include "edgedeform/iteration_state.h"
-#include "edgedeform/newton_factor.h"
 #include "edgedeform/node_graph.h"
 #include "edgedeform/operator_cache.h"
 #include "edgedeform/seams.h"
@@ -52,18 +51,14 @@ class Deformer {
   // whose constrained rows give the fixed vertices; vectors are over the free vertices
   // (#free x 3, in free_vertices() order). Each factors the system first if needed.
   Eigen::MatrixXd one_step_map(const RowMatrixX3d& X);  // G(X)
-  // J_G dX, or K dX = A (I - J_G) dX with `newton_operator`.
-  Eigen::MatrixXd jacobian_product(const RowMatrixX3d& X, const Eigen::MatrixXd& dX, bool newton_operator);
-  // The two halves of G, for diagnostics in other coordinates (bench_spectrum.py --radius,
-  // bench/rotation_coordinates.py): the local fit at X (R_i, s_i per energy term), and the
-  // global step's free positions for given R_i, s_i, the fixed rows taken from X.
-  // global_step_with(X, local_fit_at(X)) is G(X).
+  // J_G dX, or K dX = A (I - J_G) dX with `k_product` (bench/soft_modes.py: J_G's soft modes).
+  Eigen::MatrixXd jacobian_product(const RowMatrixX3d& X, const Eigen::MatrixXd& dX, bool k_product);
+  // The two halves of G, for the diagnostics in other coordinates (bench/arc_anderson.py):
+  // the local fit at X (R_i, s_i per energy term), and the global step's free positions for
+  // given R_i, s_i, the fixed rows taken from X. global_step_with(X, local_fit_at(X)) is G(X).
   LocalFit local_fit_at(const RowMatrixX3d& X);
   Eigen::MatrixXd global_step_with(const RowMatrixX3d& X, const std::vector<Eigen::Matrix3d>& rotation,
                                    const Eigen::VectorXd& scale);
-  // The Newton matrix K at X (3 #free x 3 #free, row 3 v + c coordinate c of free vertex v):
-  // `projection` as linearize_fit's (0: K itself).
-  SparseMatrix newton_matrix_at(const RowMatrixX3d& X, double projection = 0.0);
   const std::vector<int>& free_vertices() const;
 
   int n_vertices() const { return static_cast<int>(rest_.rows()); }
@@ -105,11 +100,16 @@ class Deformer {
   // iterate when warm, else from rest; `initial` when given); returns the fit to start with.
   LocalFit start_point(const RowMatrixX3d& targets, const SolveOptions& options, RowMatrixX3d& x_local,
                        SolveResult& result);
-  // The fixed point by Newton steps (projected_newton.h), after the Anderson lead-in.
-  void iterate_newton(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit, SolveResult& result);
-  // The fixed point by plain or Anderson steps (fixed_point_iteration.h) for `budget` iterations.
-  void iterate_plain_anderson(FixedPointProblem& problem, const SolveOptions& options, int budget, LocalFit& fit,
+  // The strategy a solve runs: `asked`, with Automatic resolved by the measured rule (L-BFGS
+  // where lambda = 1 on every term, else Anderson) and L-BFGS, which descends E, replaced by
+  // Anderson where there is no E (some lambda < 1).
+  Acceleration strategy_for(Acceleration asked) const;
+  // The fixed point by plain or Anderson steps (fixed_point_iteration.h).
+  void iterate_plain_anderson(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit,
                               SolveResult& result);
+  // The fixed point by L-BFGS on E (quasi_newton.h).
+  void iterate_quasi_newton(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit,
+                            SolveResult& result);
   // One local step on free positions y (fixed rows of x_local already set).
   void local_step(const Eigen::MatrixXd& y, RowMatrixX3d& x_local, LocalFit& fit, SolveResult& result);
 
@@ -137,10 +137,9 @@ class Deformer {
   bool stiffness_changed_ = false;              // assembled_ holds another lambda
   OperatorCache operators_;  // assembles or restricts system_'s operators
   FactorCache factors_;      // factors assembled_'s A; its factor() is the current one
-  NewtonFactor newton_factor_;  // the Newton matrix of assembled_ and its factor
   WarmState warm_;           // the fit the next warm solve starts from
   IterationState iter_;      // the iteration a warm solve with the same targets continues
-  bool all_rigid_ = false;   // lambda = 1 on every term of assembled_: E is the strategies' merit
+  bool all_rigid_ = false;   // lambda = 1 on every term of assembled_: the iteration descends E
   double diag_ = 0.0;             // rest bounding-box diagonal
   std::vector<double> rhs_term_weights_;  // RotationOperator::apply scratch
   RowMatrixX3d node_positions_;    // local-step scratch

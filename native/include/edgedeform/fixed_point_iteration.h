@@ -1,6 +1,6 @@
 // The plain local/global iteration x -> G(x) = global(local(x)) of docs/design.md §4, with
-// Anderson acceleration unless disabled, on the same FixedPointProblem as Newton
-// (projected_newton.h), so that the strategies are interchangeable.
+// Anderson acceleration unless disabled, on the same FixedPointProblem as L-BFGS
+// (quasi_newton.h), so that the strategies are interchangeable.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,6 +1,6 @@
 // The one-step map G(x) = A^-1 (rhs(fit(x))) linearized at a point (docs/design.md §4, "Reaching
 // the fixed point"): the right side's derivative D = d rhs / dx (the local fit's derivative,
-// then the rotation operator's), the Newton operator K = A - D = A (I - J_G), and
+// then the rotation operator's), K = A - D = A (I - J_G), and
 // J_G = A^-1 D. At lambda = 1 on every term K is the energy's Hessian (halved) at the fitted
 // rotations. Vectors are free-vertex displacements, (#free x 3).
 #pragma once
@@ -14,16 +14,13 @@ class FixedPointLinearization {
  public:
   // `fit` is the local fit at node positions `node_positions` (stencil_node_positions of
   // the point); the system, its operators and the fit must outlive this object.
-  // `projection`: the terms whose generalized eigenvalue is below it projected (linearize_fit;
-  // 1: the per-node positive semi-definite model of K, 0: K itself), only for lambda = 1 on
-  // every term.
   FixedPointLinearization(const ConstrainedSystem& system, const AssembledSystem& assembled, const LocalFit& fit,
-                          const RowMatrixX3d& node_positions, double projection = 0.0);
+                          const RowMatrixX3d& node_positions);
 
   // out = D dx.
   void rhs_derivative(const Eigen::MatrixXd& dx, Eigen::MatrixXd& out) const;
   // out = K dx = A dx - D dx.
-  void newton_operator(const Eigen::MatrixXd& dx, Eigen::MatrixXd& out) const;
+  void k_product(const Eigen::MatrixXd& dx, Eigen::MatrixXd& out) const;
 
   const ConstrainedSystem& system() const { return system_; }
   const AssembledSystem& assembled() const { return assembled_; }

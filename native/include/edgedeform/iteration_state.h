@@ -8,7 +8,7 @@
 
 #include "edgedeform/fixed_point_iteration.h"
 #include "edgedeform/iteration_point.h"
-#include "edgedeform/projected_newton.h"
+#include "edgedeform/quasi_newton.h"
 #include "edgedeform/types.h"
 
 namespace edgedeform {
@@ -16,10 +16,10 @@ namespace edgedeform {
 class IterationState {
  public:
   IterationPoint point;
-  PlainAndersonMemory plain;  // the plain/Anderson strategy's state (fixed_point_iteration.h)
-  NewtonMemory newton;        // Newton's state (projected_newton.h)
-  bool newton_valid = false;  // `newton` describes this iteration (false after Anderson moved it)
-  int lead_in_iterations = 0;  // Newton's Anderson lead-in done since the targets were set
+  PlainAndersonMemory plain;          // the plain/Anderson strategy's state (fixed_point_iteration.h)
+  QuasiNewtonMemory quasi_newton;    // L-BFGS's state (quasi_newton.h)
+  // The strategy that last moved the point: another one's memory no longer describes it.
+  Acceleration last_method = Acceleration::Automatic;  // Automatic: none yet
 
   // New operators (constraints or stiffness): a new map G, so the fit is no longer y's.
   void system_changed() { point.fitted = false; }

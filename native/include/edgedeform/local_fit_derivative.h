@@ -12,8 +12,8 @@
 // not at all where it is clamped (local_step.h's kMinScale, kMaxScale).
 // Not modelled: a term whose weighted arcs are collinear (its weights clamped to 0 by right
 // or obtuse angles) takes its spin about the main axis from the unweighted arcs
-// (local_step.cpp); that spin's change is left out, so J_G is inexact at such terms and
-// Newton's steps converge linearly there (the fixed point is unchanged).
+// (local_step.cpp); that spin's change is left out, so J_G is inexact at such terms (the
+// claim check's modulus there is an estimate; the fixed point is unchanged).
 #pragma once
 
 #include <vector>
@@ -30,20 +30,7 @@ struct FitLinearization {
 };
 
 // Linearizes `fit` (fit_local's result at node positions p) with the same stencil.
-//
-// With a `projection` above 0 (only meaningful where lambda = 1 on every term, where K is the
-// energy's Hessian): a term whose rotation response makes its own Hessian
-// sum_a w_a |de_a|^2 - u^T H^-1 u (u = sum_a w_a [R e0_a]x de_a) indefinite is projected.
-// u ranges over an ellipsoid of matrix W = R ((tr C0) I - C0) R^T, C0 = sum_a w_a e0_a e0_a^T
-// the rest covariance, so the term's Hessian has the eigenvalue 1 - 1/mu (in W's metric)
-// along each generalized eigenvector of H against W (eigenvalue mu): convex iff H >= W.
-// Every mu below `projection` is raised to 1 (that direction then costs nothing, as at
-// rest, where H = W: rigid rotations are free): projection 1 projects every indefinite term
-// (a per-node projection, as projected Newton does per element); a smaller one only the
-// strongly compressed terms, leaving the mildly indefinite ones whose sum the soft modes'
-// curvature is (docs/decisions/0029); 0 is the true K.
-FitLinearization linearize_fit(const NodeStencil& stencil, const RowMatrixX3d& node_positions, const LocalFit& fit,
-                               double projection = 0.0);
+FitLinearization linearize_fit(const NodeStencil& stencil, const RowMatrixX3d& node_positions, const LocalFit& fit);
 
 // A term's response to a change dS of its covariance: omega (rotation) and the scale change.
 inline void fit_response(const Eigen::Matrix3d& R, const Eigen::Matrix3d& omega_map, double scale_gain,

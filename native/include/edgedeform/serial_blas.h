@@ -6,7 +6,7 @@
 // changes their summation order: the factor, and so every solve, then differs in its last
 // bits between OMP_NUM_THREADS=1 and 2, and a soft problem (lambda < 1) can settle at
 // another resting place (measured on the dino lift, edge, lambda 0.5: 30 plain iterations
-// 4.8e-14 apart, 30 Newton-Krylov iterations 4.9e-12; with the BLAS on one thread, equal).
+// 4.8e-14 apart, and iterations amplify such differences; with the BLAS on one thread, equal).
 //
 // How: OpenBLAS's own openblas_set_num_threads, looked up at run time among the loaded
 // libraries (dlsym; GetProcAddress over the process's modules on Windows, where a weak

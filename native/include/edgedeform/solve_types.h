@@ -1,6 +1,6 @@
 // What a solve is asked and what it returns: the options of Deformer::solve and the strategies'
 // settings they come from, and SolveResult, which every strategy fills. At the bottom of the
-// solver's layers: the strategies (fixed_point_iteration.h, projected_newton.h) and the
+// solver's layers: the strategies (fixed_point_iteration.h, quasi_newton.h) and the
 // Deformer include it, it includes only the core's types.
 #pragma once
 
@@ -13,24 +13,12 @@
 
 namespace edgedeform {
 
-enum class Acceleration { None, Anderson, Newton };
+// Automatic: L-BFGS where lambda = 1 on every term, else Anderson (the measured rule of
+// docs/decisions/0070).
+enum class Acceleration { Automatic, Lbfgs, Anderson, None };
 const char* acceleration_name(Acceleration a);
-// "none" | "anderson" | "newton"; anything else throws std::invalid_argument.
+// "auto" | "lbfgs" | "anderson" | "none"; anything else throws std::invalid_argument.
 Acceleration parse_acceleration(const std::string& name);
-
-// The Newton method's settings (acceleration Newton).
-struct NewtonOptions {
-  // A cold or moved-target start first runs up to this many Anderson iterations: they settle
-  // the stiff part of the error cheaply and keep the solve in the basin Anderson finds (the
-  // head lift without them: another minimum, 3.6e-3 of the diagonal away; docs/decisions/0029).
-  int lead_in = 100;
-  // For the diagnostic that chose the method (bench/bench_newton.py, docs/decisions/0029):
-  // lambda = 1: "ladder" (default) projects only the terms below a level that factors;
-  // "full" uses K itself where it factors and else projects every indefinite term.
-  // `lifted` (default) moves each trial along the step's rotation response, else straight.
-  bool ladder = true;
-  bool lifted = true;
-};
 
 struct SolveOptions {
   int max_iterations = 2000;
@@ -39,12 +27,11 @@ struct SolveOptions {
   double tolerance = 1e-3;
   bool warm_start = true;
   std::optional<RowMatrixX3d> initial;  // start with a local step on these positions
-  Acceleration acceleration = Acceleration::Anderson;
+  Acceleration acceleration = Acceleration::Automatic;
   int anderson_window = 5;
-  // Plain/Anderson: before a convergence claim, estimate J_G's largest modulus by Arnoldi
+  // Before a convergence claim, estimate J_G's largest modulus by Arnoldi
   // steps at the point (claim_check.h) and claim only if the bound with it holds too.
   bool verify_claims = false;
-  NewtonOptions newton;
   // Asked once per iteration (called from the solving thread); returning true stops the
   // solve with SolveInterrupted. The Python bindings check for Ctrl-C here, so the core
   // needs no Python.
@@ -59,12 +46,11 @@ struct SolveResult {
   // (for the plain method |x_k - x_{k-1}|, the largest vertex move, over the rest diagonal).
   std::vector<double> residuals;
   double distance_estimate = 0.0;               // of the result to the fixed point, / diag
-  int accelerated_steps = 0, rejected_steps = 0;  // Anderson steps taken; discarded by the safeguard
-  int newton_steps = 0;                         // Newton: steps taken
-  int line_search_failures = 0;                 // Newton steps that gave way to plain steps
-  int newton_factorizations = 0;                // Newton: factorizations of K (failed ones included)
-  int newton_fallbacks = 0;                     // Newton's steps stopped lowering the merit: Anderson finished
-  double assemble_ms = 0.0, newton_factor_ms = 0.0;  // Newton: assembling K, factoring it (totals)
+  // Anderson: accelerated steps taken and discarded by the safeguard; L-BFGS: quasi-Newton
+  // steps taken and directions that failed their line search (the plain step instead).
+  int accelerated_steps = 0, rejected_steps = 0;
+  int line_search_fits = 0;                     // L-BFGS: local fits beyond one per iteration
+  std::string method;                           // the strategy that ran: "lbfgs", "anderson" or "none"
   int claim_checks = 0, refused_claims = 0;     // verify_claims: checks made, claims refused
   std::optional<double> initial_energy;         // energy of `initial`, when given
   bool converged = false;

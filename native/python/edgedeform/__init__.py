@@ -9,12 +9,12 @@ import types
 import numpy as np
 
 from . import _core
-from ._core import FactorizationError, NewtonOptions, SolveResult, build_info
+from ._core import FactorizationError, SolveResult, build_info
 from ._core import Deformer as _NativeDeformer
 from ._core import metrics
 from .welding import Welding
 
-__all__ = ["Deformer", "NewtonOptions", "SolveResult", "FactorizationError", "Welding", "build_info",
+__all__ = ["Deformer", "SolveResult", "FactorizationError", "Welding", "build_info",
            "metrics", "ACCELERATIONS", "SOLVE_DEFAULTS"]
 __version__ = build_info()["version"]
 

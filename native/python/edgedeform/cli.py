@@ -40,7 +40,8 @@ REPORT_FIELDS = {
     "residuals": "per iteration, as `SolveResult.residuals`",
     "converged": "as `SolveResult.converged`",
     "distance_estimate": "as `SolveResult.distance_estimate`; null when unknown",
-    "acceleration": "the method solved with, one of `edgedeform.ACCELERATIONS`",
+    "acceleration": 'the method that ran, as `SolveResult.method` ("lbfgs", "anderson" or "none": '
+                    '"auto" resolved)',
     "free_vertices": "vertices the solve could move",
     "wall_ms": "wall time of the solve: factorization and iterations, not reading or writing, ms",
     "warnings": "as `SolveResult.warnings` (not converged, vertices kept at rest, unwelded seams, ...)",
@@ -229,7 +230,7 @@ def deform(args):
         "converged": bool(r.converged),
         "distance_estimate": (float(r.distance_estimate)
                               if math.isfinite(r.distance_estimate) else None),
-        "acceleration": args.acceleration,
+        "acceleration": r.method,
         "free_vertices": int(r.free_vertices),
         "wall_ms": round(wall_ms, 3),
         "warnings": list(r.warnings),

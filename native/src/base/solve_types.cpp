@@ -8,7 +8,8 @@ namespace edgedeform {
 
 const char* acceleration_name(Acceleration a) {
   switch (a) {
-    case Acceleration::Newton: return "newton";
+    case Acceleration::Automatic: return "auto";
+    case Acceleration::Lbfgs: return "lbfgs";
     case Acceleration::Anderson: return "anderson";
     case Acceleration::None: break;
   }
@@ -16,10 +17,9 @@ const char* acceleration_name(Acceleration a) {
 }
 
 Acceleration parse_acceleration(const std::string& name) {
-  if (name == "newton") return Acceleration::Newton;
-  if (name == "anderson") return Acceleration::Anderson;
-  if (name == "none") return Acceleration::None;
-  throw std::invalid_argument("acceleration must be \"newton\", \"anderson\" or \"none\", got \"" + name + "\"");
+  for (Acceleration a : {Acceleration::Automatic, Acceleration::Lbfgs, Acceleration::Anderson, Acceleration::None})
+    if (name == acceleration_name(a)) return a;
+  throw std::invalid_argument("acceleration must be \"auto\", \"lbfgs\", \"anderson\" or \"none\", got \"" + name + "\"");
 }
 
 std::string not_converged_warning(int max_iterations, double distance_estimate, double tolerance,

@@ -11,7 +11,9 @@
 
 #include "edgedeform/cotangent.h"
 #include "edgedeform/errors.h"
+#include "edgedeform/fixed_point_iteration.h"
 #include "edgedeform/local_fit_derivative.h"
+#include "edgedeform/quasi_newton.h"
 #include "edgedeform/mesh_checks.h"
 #include "edgedeform/region_graph.h"
 #include "edgedeform/stiffness.h"
@@ -34,8 +36,6 @@ void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX
   check_distance(targets, range.center, range.limit, "targets");
   if (o.anderson_window < 1 || o.anderson_window > 50)
     throw std::invalid_argument("anderson_window must be in [1, 50], got " + std::to_string(o.anderson_window));
-  if (o.newton.lead_in < 0)
-    throw std::invalid_argument("newton.lead_in must be at least 0, got " + std::to_string(o.newton.lead_in));
   if (o.max_iterations < 1)
     throw std::invalid_argument("max_iterations must be at least 1, got " + std::to_string(o.max_iterations));
   if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance))
@@ -127,7 +127,6 @@ void Deformer::ensure_factored(SolveResult& result) {
   stiffness_changed_ = false;
   all_rigid_ = assembled_->term_lambda.size() > 0 && assembled_->term_lambda.minCoeff() >= 1.0;
   iter_.system_changed();
-  newton_factor_.operators_changed();
   result.factor_ms = ms_since(start);
 }
 
@@ -158,48 +157,46 @@ struct Deformer::StepProblem final : FixedPointProblem {
     result.solve_ms += ms_since(t0);
   }
   const SparseMatrix& A() const override { return d.assembled_->A; }
-  std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit, double projection) override {
-    return std::make_unique<FixedPointLinearization>(*d.system_, *d.assembled_, fit, d.node_positions_, projection);
-  }
-  bool factor_newton(const LocalFit& fit, double projection) override {
-    const FixedPointLinearization lin(*d.system_, *d.assembled_, fit, d.node_positions_, projection);
-    const bool ok = d.newton_factor_.factor(lin);
-    ++result.newton_factorizations;
-    result.assemble_ms += d.newton_factor_.assemble_ms();
-    result.newton_factor_ms += d.newton_factor_.factor_ms();
-    return ok;
-  }
-  RowMatrixX3d lift_omega;
-  Eigen::VectorXd lift_dscale;
-  void prepare_lift(const LocalFit& fit, const Eigen::MatrixXd& delta) override {
-    const FixedPointLinearization lin(*d.system_, *d.assembled_, fit, d.node_positions_, 0.0);
-    RowMatrixX3d padded = RowMatrixX3d::Zero(d.system_->n_free() + d.system_->n_fixed(), 3), change;
-    padded.topRows(delta.rows()) = delta;
-    stencil_node_positions(*d.system_, padded, change);
-    differentiate_fit(d.system_->stencil, fit, lin.fit_linearization(), change, lift_omega, lift_dscale);
-  }
-  void lifted_step(const LocalFit& fit, double alpha, Eigen::MatrixXd& out) override {
-    const auto T = fit.rotation.size();
-    std::vector<Eigen::Matrix3d> rotation(T);
-    Eigen::VectorXd scale(fit.scale.size());
-    for (size_t t = 0; t < T; ++t) {
-      const Eigen::Vector3d w = alpha * lift_omega.row(static_cast<Eigen::Index>(t)).transpose();
-      const double angle = w.norm();
-      rotation[t] = angle > 0.0 ? Eigen::Matrix3d(Eigen::AngleAxisd(angle, w / angle) * fit.rotation[t]) : fit.rotation[t];
-      scale(static_cast<Eigen::Index>(t)) =
-          std::clamp(fit.scale(static_cast<Eigen::Index>(t)) + alpha * lift_dscale(static_cast<Eigen::Index>(t)), kMinScale, kMaxScale);
-    }
-    Eigen::MatrixXd rhs;
-    d.assembled_->H.apply(rotation, scale, c, rhs, d.rhs_term_weights_);
-    d.factors_.factor().solve(rhs, out);
-  }
-  void solve_newton(const Eigen::MatrixXd& b, Eigen::MatrixXd& delta) override {
-    const auto t0 = Clock::now();
-    d.newton_factor_.solve(b, delta);
-    result.solve_ms += ms_since(t0);
+  std::unique_ptr<FixedPointLinearization> linearize(const LocalFit& fit) override {
+    return std::make_unique<FixedPointLinearization>(*d.system_, *d.assembled_, fit, d.node_positions_);
   }
   bool interrupt_requested() override { return options.interrupt_requested && options.interrupt_requested(); }
 };
+
+Acceleration Deformer::strategy_for(Acceleration asked) const {
+  if (asked == Acceleration::Automatic || asked == Acceleration::Lbfgs)
+    return all_rigid_ ? Acceleration::Lbfgs : Acceleration::Anderson;
+  return asked;
+}
+
+void Deformer::iterate_plain_anderson(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit,
+                                      SolveResult& result) {
+  IterationState& it = iter_;
+  if (it.last_method == Acceleration::Lbfgs) it.plain.forget();  // its rate estimate saw other iterates
+  it.last_method = options.acceleration == Acceleration::None ? Acceleration::None : Acceleration::Anderson;
+  PlainAndersonSettings settings;
+  settings.max_iterations = options.max_iterations;
+  settings.tolerance = options.tolerance;
+  settings.diag = diag_;
+  settings.descent = all_rigid_;
+  settings.accelerate = options.acceleration != Acceleration::None;
+  settings.verify_claims = options.verify_claims;
+  plain_anderson_solve(problem, settings, it.point, fit, it.plain, result);
+}
+
+void Deformer::iterate_quasi_newton(FixedPointProblem& problem, const SolveOptions& options, LocalFit& fit,
+                                    SolveResult& result) {
+  IterationState& it = iter_;
+  if (it.last_method != Acceleration::Lbfgs && it.last_method != Acceleration::Automatic)
+    it.quasi_newton.forget();  // Anderson or plain steps moved the point
+  it.last_method = Acceleration::Lbfgs;
+  QuasiNewtonSettings settings;
+  settings.max_iterations = options.max_iterations;
+  settings.tolerance = options.tolerance;
+  settings.diag = diag_;
+  settings.verify_claims = options.verify_claims;
+  quasi_newton_solve(problem, settings, it.point, fit, it.quasi_newton, result);
+}
 
 SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& options) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -230,11 +227,16 @@ SolveResult Deformer::solve(const RowMatrixX3d& targets, const SolveOptions& opt
 
   LocalFit fit = start_point(targets, options, x_local, result);
   StepProblem problem(*this, c, x_local, result, options);
+  const Acceleration method = strategy_for(options.acceleration);
+  result.method = acceleration_name(method);
+  if (options.acceleration == Acceleration::Lbfgs && method != Acceleration::Lbfgs)
+    result.warnings.push_back("acceleration \"lbfgs\" descends the energy, which exists only where lambda = 1 on every "
+                              "vertex; ran \"anderson\" instead");
   try {
-    if (options.acceleration == Acceleration::Newton)
-      iterate_newton(problem, options, fit, result);
+    if (method == Acceleration::Lbfgs)
+      iterate_quasi_newton(problem, options, fit, result);
     else
-      iterate_plain_anderson(problem, options, options.max_iterations, fit, result);
+      iterate_plain_anderson(problem, options, fit, result);
   } catch (const SolveInterrupted&) {
     iter_.interrupted();
     throw;

@@ -24,33 +24,6 @@ Eigen::Matrix3d covariance_change(const NodeStencil& st, const RowMatrixX3d& dp,
   return dS;
 }
 
-}  // namespace
-
-namespace {
-
-// The generalized eigenvalues of H against W = R W0 R^T below `projection` raised to 1,
-// inverted: with projection 1, (W^1/2 max(W^-1/2 H W^-1/2, I) W^1/2)^-1; computed in the rest
-// frame (W0 = (tr C0) I - C0). False when W0 is singular (collinear arcs), or when no
-// eigenvalue is below a projection under 1: the caller then inverts H as it is.
-bool raised_inverse(const Eigen::Matrix3d& W0, const Eigen::Matrix3d& R, const Eigen::Matrix3d& H, double projection,
-                    Eigen::Matrix3d& inverse) {
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> w;
-  w.computeDirect(W0);
-  const Eigen::Vector3d wv = w.eigenvalues();
-  if (!(wv(0) > kDegenerateRatio * wv(2))) return false;
-  const Eigen::Matrix3d inv_root = w.eigenvectors() * wv.cwiseSqrt().cwiseInverse().asDiagonal() * w.eigenvectors().transpose();
-  const Eigen::Matrix3d frame = R * inv_root;  // W^-1/2 = R W0^-1/2 R^T; B = W0^-1/2 R^T H R W0^-1/2
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> b;
-  b.computeDirect(frame.transpose() * H * frame);
-  const Eigen::Vector3d mu = b.eigenvalues();
-  if (projection < 1.0 && !(mu(0) < projection)) return false;  // ascending: none below
-  // With projection 1 this is max(mu, 1): every indefinite direction made flat.
-  const Eigen::Vector3d raised = mu.unaryExpr([&](double m) { return m < projection ? 1.0 : m; }).cwiseInverse();
-  const Eigen::Matrix3d Q = frame * b.eigenvectors();
-  inverse = Q * raised.asDiagonal() * Q.transpose();
-  return true;
-}
-
 // H^-1 where H is clearly positive definite (almost every term), else the pseudo-inverse
 // without the directions whose eigenvalue is below kDegenerateRatio of the largest.
 Eigen::Matrix3d clamped_inverse(const Eigen::Matrix3d& H) {
@@ -70,7 +43,7 @@ Eigen::Matrix3d clamped_inverse(const Eigen::Matrix3d& H) {
 
 }  // namespace
 
-FitLinearization linearize_fit(const NodeStencil& st, const RowMatrixX3d& p, const LocalFit& fit, double projection) {
+FitLinearization linearize_fit(const NodeStencil& st, const RowMatrixX3d& p, const LocalFit& fit) {
   const int T = st.n_terms;
   FitLinearization lin;
   lin.omega_map.assign(static_cast<size_t>(T), Eigen::Matrix3d::Zero());
@@ -84,16 +57,7 @@ FitLinearization linearize_fit(const NodeStencil& st, const RowMatrixX3d& p, con
       const Eigen::Matrix3d N = R * S;
       const Eigen::Matrix3d sym = 0.5 * (N + N.transpose());
       const Eigen::Matrix3d hessian = sym.trace() * Eigen::Matrix3d::Identity() - sym;
-      Eigen::Matrix3d inverse;
-      bool raised = false;
-      if (projection > 0.0) {
-        Eigen::Matrix3d C0 = Eigen::Matrix3d::Zero();
-        for (int a = st.offsets[static_cast<size_t>(t)]; a < st.offsets[static_cast<size_t>(t) + 1]; ++a)
-          C0.noalias() += st.weight[static_cast<size_t>(a)] * st.rest_edge.row(a).transpose() * st.rest_edge.row(a);
-        raised = raised_inverse(C0.trace() * Eigen::Matrix3d::Identity() - C0, R, hessian, projection, inverse);
-      }
-      if (!raised) inverse = clamped_inverse(hessian);
-      lin.omega_map[static_cast<size_t>(t)] = -inverse;
+      lin.omega_map[static_cast<size_t>(t)] = -clamped_inverse(hessian);
       const double raw_scale = N.trace() / rest_norm;
       if (raw_scale > kMinScale && raw_scale < kMaxScale) lin.scale_gain(t) = 1.0 / rest_norm;
     }

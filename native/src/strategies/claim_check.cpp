@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -40,7 +41,7 @@ double largest_ritz_modulus(const std::function<void(const Eigen::MatrixXd&, Eig
 
 double largest_jacobian_modulus(FixedPointProblem& problem, const LocalFit& fit, const Eigen::MatrixXd& residual,
                                 int steps) {
-  const std::unique_ptr<FixedPointLinearization> lin = problem.linearize(fit, false);
+  const std::unique_ptr<FixedPointLinearization> lin = problem.linearize(fit);
   Eigen::MatrixXd d_rhs;
   const auto apply_J = [&](const Eigen::MatrixXd& q, Eigen::MatrixXd& out) {
     if (problem.interrupt_requested()) throw SolveInterrupted("solve interrupted");
@@ -48,6 +49,21 @@ double largest_jacobian_modulus(FixedPointProblem& problem, const LocalFit& fit,
     problem.solve_A(d_rhs, out);  // J_G q = A^-1 D q
   };
   return largest_ritz_modulus(apply_J, residual, steps);
+}
+
+double checked_distance(FixedPointProblem& problem, ConvergenceMonitor& monitor, const LocalFit& fit,
+                        const Eigen::MatrixXd& y, const Eigen::MatrixXd& g, double r, bool map_pair,
+                        bool verify_claims, double tolerance, SolveResult& result) {
+  monitor.add(y, g, map_pair);
+  if (!map_pair) return std::numeric_limits<double>::infinity();
+  double distance = monitor.distance(r);
+  if (verify_claims && distance < tolerance && r > ConvergenceMonitor::kRoundoff) {
+    ++result.claim_checks;
+    monitor.raise_rate(largest_jacobian_modulus(problem, fit, g - y));
+    distance = monitor.distance(r);
+    if (!(distance < tolerance)) ++result.refused_claims;
+  }
+  return distance;
 }
 
 }  // namespace edgedeform

@@ -15,10 +15,10 @@ void IterationState::restart(const RowMatrixX3d& targets, const RowMatrixX3d& re
   if (point.y.rows() != nf || !positions_valid_ || !keep_positions)  // measure the first step from rest
     gather_rows(rest, free_vertices, point.y);
   plain.restart(nf, anderson_window);
+  quasi_newton.restart(nf);
+  last_method = Acceleration::Automatic;
   targets_ = targets;
   point.fitted = false;  // the fit is not fit(y) yet
-  newton_valid = false;
-  lead_in_iterations = 0;
 }
 
 void IterationState::start_at(const RowMatrixX3d& initial, const std::vector<int>& free_vertices) {

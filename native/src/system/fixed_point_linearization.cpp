@@ -3,12 +3,11 @@
 namespace edgedeform {
 
 FixedPointLinearization::FixedPointLinearization(const ConstrainedSystem& system, const AssembledSystem& assembled,
-                                                 const LocalFit& fit, const RowMatrixX3d& node_positions,
-                                                 double projection)
+                                                 const LocalFit& fit, const RowMatrixX3d& node_positions)
     : system_(system),
       assembled_(assembled),
       fit_(fit),
-      linearization_(linearize_fit(system.stencil, node_positions, fit, projection)) {
+      linearization_(linearize_fit(system.stencil, node_positions, fit)) {
   padded_.setZero(system.n_free() + system.n_fixed(), 3);  // fixed vertices never move
 }
 
@@ -19,7 +18,7 @@ void FixedPointLinearization::rhs_derivative(const Eigen::MatrixXd& dx, Eigen::M
   assembled_.H.apply_derivative(fit_.rotation, fit_.scale, omega_, dscale_, out);
 }
 
-void FixedPointLinearization::newton_operator(const Eigen::MatrixXd& dx, Eigen::MatrixXd& out) const {
+void FixedPointLinearization::k_product(const Eigen::MatrixXd& dx, Eigen::MatrixXd& out) const {
   rhs_derivative(dx, out);
   out = assembled_.A * dx - out;
 }
