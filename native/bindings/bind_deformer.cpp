@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include "edgedeform/deformer.h"
+#include "gil.h"
 #include "numpy_convert.h"
 #include "typed_args.h"
 
@@ -113,8 +114,7 @@ projection, lifted: for the diagnostic that chose the method (bench/bench_newton
              RowMatrixX3d v = to_points(V.obj, "V");
              RowMatrixX3i f = to_faces(F.obj, "F");
              const Domain d = parse_domain(domain);
-             py::gil_scoped_release release;
-             return std::make_unique<Deformer>(v, f, d, clamp);
+             return without_gil([&] { return std::make_unique<Deformer>(v, f, d, clamp); });
            }),
            py::arg("V"), py::arg("F"), py::arg("domain") = "edge", py::arg("clamp_negative_weights") = true,
            R"doc(Builds the graph of a mesh.
@@ -131,8 +131,7 @@ semi-definite, as CGAL's ARAP does). Raises ValueError for a malformed or degene
             sets.roi_radius = roi_radius;
             sets.roi_connected = roi_connected;
             if (!roi_from.obj.is_none()) sets.roi_from = to_indices(roi_from.obj, "roi_from");
-            py::gil_scoped_release release;
-            d.set_constraints(sets);
+            without_gil([&] { d.set_constraints(sets); });
           },
           py::arg("handles"), py::arg("static") = py::none(), py::arg("roi") = py::none(),
           py::arg("roi_radius") = py::none(), py::arg("roi_connected") = false, py::arg("roi_from") = py::none(),
@@ -159,14 +158,12 @@ roi_from, or a roi_radius that leaves no vertex free; IndexError when an index i
             if (py::isinstance<py::float_>(lam) || py::isinstance<py::int_>(lam)) {
               const double value = lam.cast<double>();
               // Without the GIL, like every call that waits for the Deformer's lock: a solve
-              // in another thread takes the GIL briefly to check for Ctrl-C.
-              py::gil_scoped_release release;
-              d.set_stiffness(value);
+              // in the main thread takes the GIL briefly to check for Ctrl-C.
+              without_gil([&] { d.set_stiffness(value); });
               return;
             }
             Eigen::VectorXd v = to_vector(lam, "stiffness");
-            py::gil_scoped_release release;
-            d.set_stiffness(v);
+            without_gil([&] { d.set_stiffness(v); });
           },
           py::arg("stiffness"),
           R"doc(Material stiffness lambda in [0, 1]: one float for the whole mesh, or (n,) one per vertex.
@@ -177,8 +174,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
           "energy",
           [](const Deformer& d, const PointsArg& X) {
             RowMatrixX3d x = to_points(X.obj, "X");
-            py::gil_scoped_release release;
-            return d.energy(x);
+            return without_gil([&] { return d.energy(x); });
           },
           py::arg("X"), "Energy of positions X (n, 3) over every node, with rotations and scales fitted to X.")
       .def_property_readonly("n_vertices", &Deformer::n_vertices, "vertices of the mesh")
@@ -216,8 +212,8 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
       .def(
           "node_stiffness",
           [](const Deformer& d) {
-            py::gil_scoped_release release;  // node_lambda() waits for a solve in another thread
-            return d.node_lambda();
+            // node_lambda() waits for a solve in another thread
+            return without_gil([&] { return d.node_lambda(); });
           },
           "(n_nodes,) float64 lambda per node under the current stiffness")
       .def("_laplacian_coo", [](const Deformer& d) { return to_coo(d.graph().laplacian()); })

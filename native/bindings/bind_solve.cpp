@@ -13,6 +13,7 @@
 
 #include "edgedeform/deformer.h"
 #include "edgedeform/errors.h"
+#include "gil.h"
 #include "numpy_convert.h"
 #include "signal_check.h"
 #include "typed_args.h"
@@ -227,8 +228,7 @@ void bind_solve(py::module_& m, py::class_<Deformer>& deformer) {
         SignalCheck signals;
         o.interrupt_requested = signals.callback();
         try {
-          py::gil_scoped_release release;
-          return d.solve(t, o);
+          return without_gil([&] { return d.solve(t, o); });
         } catch (const SolveInterrupted&) {  // the GIL is back: raise KeyboardInterrupt
           signals.raise_pending();
         }
