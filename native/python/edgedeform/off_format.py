@@ -6,10 +6,12 @@ Kept as they were: the header, comments, vertex colours and texture coordinates,
 coordinates of each vertex line and, in NOFF files, the vertex normals, which are
 recomputed from the deformed faces (area-weighted). One vertex and one face per line, as
 every OFF writer we know produces; binary OFF and 4D/nD variants are refused by name.
+Counts are checked against the lines that are there (negative or too large ones refused).
 """
 
 import numpy as np
 
+from .format_error import at_line, parse_number, require_count
 from .number_text import float_text, floats_text
 from .polygons import vertex_normals
 
@@ -50,51 +52,51 @@ def _ending(line):
 
 
 def read(text):
+    """Parse OFF text. Every count is checked against the lines that are there before any
+    array is made; a bad file raises MeshFormatError naming the line."""
     lines = text.splitlines(keepends=True)
-    data = [(k, _data(line).split()) for k, line in enumerate(lines)]
+    data = ((k, _data(line).split()) for k, line in enumerate(lines))
     data = [(k, t) for k, t in data if t]
     if not data or not data[0][1][0].upper().endswith("OFF"):
-        raise ValueError("missing OFF header")
+        raise at_line(data[0][0] if data else 0, "missing OFF header")
     keyword = data[0][1][0]
     prefix = keyword[:-3]  # [ST][C][N][4][n]OFF
     if "BINARY" in (t.upper() for t in data[0][1][1:]):
-        raise ValueError("binary OFF is not supported (write it as text OFF or PLY)")
+        raise at_line(data[0][0], "binary OFF is not supported (write it as text OFF or PLY)")
     if "4" in prefix or prefix.endswith("n"):
-        raise ValueError(f"'{keyword}' (4D or nD vertices) is not supported")
+        raise at_line(data[0][0], f"'{keyword}' (4D or nD vertices) is not supported")
     prefix = prefix.upper()
     if set(prefix) - set("STCN"):
-        raise ValueError(f"unknown OFF header '{keyword}'")
+        raise at_line(data[0][0], f"unknown OFF header '{keyword}'")
     has_normals = "N" in prefix
-    head, rows = data[0][1][1:], data[1:]
+    counts_line, head, rows = data[0][0], data[0][1][1:], data[1:]
     if not head:
         if not rows:
-            raise ValueError("missing vertex/face counts")
-        head, rows = rows[0][1], rows[1:]
-    try:
-        nv, nf = int(head[0]), int(head[1])
-    except (ValueError, IndexError):
-        raise ValueError(f"bad vertex/face counts {' '.join(head)!r}") from None
+            raise at_line(counts_line, "missing vertex and face counts")
+        (counts_line, head), rows = rows[0], rows[1:]
+    if len(head) < 2:
+        raise at_line(counts_line, f"expected the vertex and face counts, found {' '.join(head)!r}")
+    nv = require_count(head[0], counts_line, "vertices")
+    nf = require_count(head[1], counts_line, "faces")
     if len(rows) < nv + nf:
-        raise ValueError(f"expected {nv} vertices and {nf} faces, the file has {len(rows)} data lines")
+        raise at_line(counts_line, f"{nv} vertices and {nf} faces declared, the file has "
+                                   f"{len(rows)} lines of data after this one")
+    per_vertex = 6 if has_normals else 3
     coords = []
     for k, t in rows[:nv]:
-        try:
-            coords.append([float(x) for x in t[:3]])
-        except ValueError:
-            raise ValueError(f"line {k + 1}: '{' '.join(t)}' is not a vertex") from None
-        if len(t) < (6 if has_normals else 3):
-            raise ValueError(f"line {k + 1}: a vertex line has too few numbers for '{keyword}'")
-    sizes, corners = [], []
+        if len(t) < per_vertex:
+            raise at_line(k, f"a vertex line needs {per_vertex} numbers for '{keyword}', found {len(t)}")
+        coords.append([parse_number(x, float, k, "a coordinate") for x in t[:per_vertex]][:3])
+    sizes, corners, face_colours = [], [], False
     for k, t in rows[nv:nv + nf]:
-        try:
-            size = int(t[0])
-            face = [int(x) for x in t[1:1 + size]]
-        except ValueError:
-            raise ValueError(f"line {k + 1}: '{' '.join(t)}' is not a face") from None
-        if size < 3 or len(face) != size:
-            raise ValueError(f"line {k + 1}: a face needs its corner count and at least 3 corners")
+        size = parse_number(t[0], int, k, "a face's corner count")
+        if size < 3:
+            raise at_line(k, f"a face needs at least 3 corners, this one declares {size}")
+        if len(t) - 1 < size:
+            raise at_line(k, f"the face declares {size} corners, the line has {len(t) - 1} numbers")
+        corners += [parse_number(x, int, k, "a vertex index") for x in t[1:1 + size]]
         sizes.append(size)
-        corners += face
+        face_colours = face_colours or len(t) > 1 + size
     has = set()
     if "C" in prefix:
         has.add("vertex colours")
@@ -102,7 +104,7 @@ def read(text):
         has.add("texture coordinates")
     if has_normals:
         has.add("vertex normals")
-    if any(len(t) > 1 + int(t[0]) for _, t in rows[nv:nv + nf]):
+    if face_colours:
         has.add("face colours")
     return (OffFile(lines, [k for k, _ in rows[:nv]], has_normals, np.array(sizes, dtype=np.int64),
                     np.array(corners, dtype=np.int64), has),
