@@ -28,3 +28,12 @@ def require_count(token, line_no, what):
     if n < 0:
         raise at_line(line_no, f"negative count of {what} ({n})")
     return n
+
+
+def parse_index(token, line_no):
+    """A vertex index as a file writes it: an integer that fits 64 bits (whether it names a
+    vertex is checked once every vertex is known)."""
+    k = parse_number(token, int, line_no, "a vertex index")
+    if not -2**63 <= k < 2**63:
+        raise at_line(line_no, f"vertex index {k} is out of range")
+    return k

@@ -30,7 +30,7 @@ SUPPORTED = (".obj", ".off", ".ply")
 _FORMATS = {".obj": obj_format, ".off": off_format, ".ply": ply_format}
 BOM = b"\xef\xbb\xbf"   # UTF-8's byte-order mark, which some Windows tools write first
 
-__all__ = ["MeshFile", "MeshFormatError", "SUPPORTED", "check_extension", "read_mesh",
+__all__ = ["MeshFile", "MeshFormatError", "SUPPORTED", "check_extension", "parse_mesh", "read_mesh",
            "read_mesh_file", "write_mesh"]
 
 
@@ -59,20 +59,22 @@ class MeshFile:
         """Write `positions` (n,3) with this file's faces and data. Returns notes (list of
         str) on what was recomputed or could not be carried into the output format."""
         path = str(path)
-        ext = check_extension(path)
+        content, notes = self.encode(check_extension(path), positions)
+        _write_atomically(path, content)
+        return notes
+
+    def encode(self, ext, positions):
+        """(the bytes of a file of format `ext` with `positions`, notes) without writing it."""
         X = np.asarray(positions, dtype=np.float64)
         if X.shape != self.vertices.shape:
             raise MeshFormatError(f"write: positions {X.shape}, the mesh has {self.vertices.shape}")
         if ext == self.ext:
             content, notes = self._source.rewrite(X)
-            content = self._bom + _bytes(content)
-        else:
-            content = _FORMATS[ext].write_plain(X, self.face_sizes, self.face_corners)
-            lost = sorted(self._source.has)
-            notes = [f"{self.ext} -> {ext}: positions and faces written; not carried over: "
-                     f"{', '.join(lost)}"] if lost else []
-        _write_atomically(path, content)
-        return notes
+            return self._bom + _bytes(content), notes
+        lost = sorted(self._source.has)
+        notes = [f"{self.ext} -> {ext}: positions and faces written; not carried over: "
+                 f"{', '.join(lost)}"] if lost else []
+        return _bytes(_FORMATS[ext].write_plain(X, self.face_sizes, self.face_corners)), notes
 
 
 def read_mesh_file(path):
@@ -86,7 +88,13 @@ def read_mesh_file(path):
     if not os.path.isfile(path):
         raise FileNotFoundError(f"{path}: no such file")
     with open(path, "rb") as fh:
-        data = fh.read()
+        return parse_mesh(fh.read(), ext, path)
+
+
+def parse_mesh(data, ext, path):
+    """A MeshFile from the bytes `data` of a file with extension `ext` (".obj", ".off",
+    ".ply"); `path` names it in errors and is where it was read from. MeshFormatError as
+    read_mesh_file."""
     bom = BOM if data.startswith(BOM) else b""
     data = data[len(bom):]
     try:

@@ -17,6 +17,7 @@ import numpy as np
 from .format_error import at_line, parse_number
 from .number_text import floats_text
 from .polygons import accumulate_unit, face_normals
+from .text_lines import line_ending, split_lines
 
 
 class ObjFile:
@@ -34,7 +35,7 @@ class ObjFile:
         """The file's text with new positions. Returns (text, notes)."""
         lines = list(self.lines)
         for i, (line_no, extra) in enumerate(zip(self.v_lines, self.v_extra)):
-            lines[line_no] = f"v {floats_text(positions[i])}{extra}{_ending(lines[line_no])}"
+            lines[line_no] = f"v {floats_text(positions[i])}{extra}{line_ending(lines[line_no])}"
         notes = []
         used = self.corner_normals >= 0
         if len(self.vn_lines) and used.any():
@@ -42,13 +43,9 @@ class ObjFile:
             face = np.repeat(np.arange(len(self.sizes)), self.sizes)
             new = accumulate_unit(self.corner_normals[used], N[face[used]], len(self.vn_lines), self.normals)
             for j, line_no in enumerate(self.vn_lines):
-                lines[line_no] = f"vn {floats_text(new[j])}{_ending(lines[line_no])}"
+                lines[line_no] = f"vn {floats_text(new[j])}{line_ending(lines[line_no])}"
             notes.append("normals (vn) recomputed from the deformed faces")
         return "".join(lines), notes
-
-
-def _ending(line):
-    return line[len(line.rstrip("\r\n")):] or "\n"
 
 
 def _index(token, count, what, line_no):
@@ -64,7 +61,7 @@ def _index(token, count, what, line_no):
 
 def read(text):
     """Parse OBJ text. Raises MeshFormatError naming the line for malformed input."""
-    lines = text.splitlines(keepends=True)
+    lines = split_lines(text)
     v_lines, v_extra, coords, vn_lines, normals = [], [], [], [], []
     sizes, corners, corner_normals = [], [], []
     has = set()

@@ -11,9 +11,10 @@ Counts are checked against the lines that are there (negative or too large ones 
 
 import numpy as np
 
-from .format_error import at_line, parse_number, require_count
+from .format_error import at_line, parse_index, parse_number, require_count
 from .number_text import float_text, floats_text
 from .polygons import vertex_normals
+from .text_lines import line_ending, split_lines
 
 
 class OffFile:
@@ -39,7 +40,7 @@ class OffFile:
             new = [float_text(c) for c in positions[i]]
             if normals is not None:
                 new += [float_text(c) for c in normals[i]]
-            lines[line_no] = " ".join(new + rest) + comment + _ending(line)
+            lines[line_no] = " ".join(new + rest) + comment + line_ending(line)
         return "".join(lines), notes
 
 
@@ -47,14 +48,10 @@ def _data(line):
     return line.split("#", 1)[0].rstrip("\r\n")
 
 
-def _ending(line):
-    return line[len(line.rstrip("\r\n")):] or "\n"
-
-
 def read(text):
     """Parse OFF text. Every count is checked against the lines that are there before any
     array is made; a bad file raises MeshFormatError naming the line."""
-    lines = text.splitlines(keepends=True)
+    lines = split_lines(text)
     data = ((k, _data(line).split()) for k, line in enumerate(lines))
     data = [(k, t) for k, t in data if t]
     if not data or not data[0][1][0].upper().endswith("OFF"):
@@ -94,7 +91,7 @@ def read(text):
             raise at_line(k, f"a face needs at least 3 corners, this one declares {size}")
         if len(t) - 1 < size:
             raise at_line(k, f"the face declares {size} corners, the line has {len(t) - 1} numbers")
-        corners += [parse_number(x, int, k, "a vertex index") for x in t[1:1 + size]]
+        corners += [parse_index(x, k) for x in t[1:1 + size]]
         sizes.append(size)
         face_colours = face_colours or len(t) > 1 + size
     has = set()

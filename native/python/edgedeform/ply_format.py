@@ -15,9 +15,10 @@ the line (ASCII) or the row.
 
 import numpy as np
 
-from .format_error import MeshFormatError, at_line, parse_number, require_count
+from .format_error import MeshFormatError, at_line, parse_index, parse_number, require_count
 from .number_text import float_text
 from .polygons import vertex_normals
+from .text_lines import split_lines
 
 TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2",
          "ushort": "u2", "uint16": "u2", "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
@@ -131,12 +132,18 @@ def _parse_header(data):
         t = raw.split()
         if not t or t[0] in ("comment", "obj_info"):
             continue
+        if t[0] == "format" and fmt is not None:
+            raise at_line(line_no, "a second 'format' line")
+        if t[0] == "element" and len(t) == 3 and t[1] in (e.name for e in elements):
+            raise at_line(line_no, f"element '{t[1]}' declared twice")
         if t[0] == "format" and len(t) == 3:
             fmt = t[1]
         elif t[0] == "element" and len(t) == 3:
             elements.append(Element(t[1], require_count(t[2], line_no, f"'{t[1]}' rows")))
         elif t[0] == "property" and not elements:
             raise at_line(line_no, "a property before any element")
+        elif t[0] == "property" and t[-1] in elements[-1].names():
+            raise at_line(line_no, f"property '{t[-1]}' declared twice in element '{elements[-1].name}'")
         elif t[0] == "property" and len(t) == 3 and t[1] in TYPES:
             elements[-1].properties.append((t[2], TYPES[t[1]]))
         elif t[0] == "property" and len(t) == 5 and t[1] == "list" and t[2] in TYPES and t[3] in TYPES:
@@ -218,7 +225,8 @@ def _uniform_lists(data, offset, element, order):
             if first + count_type.itemsize > len(data):
                 return None
             k = _list_length(data, first, element, name, 0, count_type, item_type)
-            fields += [(name + "#count", count_type), (name, item_type, (k,))]
+            # "NAME count": PLY names have no spaces, so no property can take this field's name
+            fields += [(name + " count", count_type), (name, item_type, (k,))]
             first += count_type.itemsize + k * item_type.itemsize
     dtype = np.dtype(fields)
     end = offset + element.count * dtype.itemsize
@@ -226,7 +234,7 @@ def _uniform_lists(data, offset, element, order):
         return None
     rows = np.frombuffer(data, dtype, element.count, offset)
     for name, t in element.properties:
-        if not isinstance(t, str) and np.any(rows[name + "#count"] != dtype[name].shape[0]):
+        if not isinstance(t, str) and np.any(rows[name + " count"] != dtype[name].shape[0]):
             return None
     lists = None
     for name in FACE_LISTS:
@@ -254,7 +262,7 @@ def _ascii_face(tokens, element, line_no):
                                    f"numbers after it")
         if name in FACE_LISTS:
             size = k
-            corners = [parse_number(x, int, line_no, "a vertex index") for x in tokens[c + 1:c + 1 + k]]
+            corners = [parse_index(x, line_no) for x in tokens[c + 1:c + 1 + k]]
         c += 1 + k
     if c != len(tokens):
         raise at_line(line_no, f"{len(tokens)} numbers, the face's properties take {c}")
@@ -266,7 +274,7 @@ def _ascii_face(tokens, element, line_no):
 def _ascii_elements(body, elements, first_line):
     """Each element's lines, the vertex rows (token lists) and the face lists. `first_line`:
     the body's first line in the file (0-based), for the messages."""
-    lines = body.decode("latin-1").splitlines(keepends=True)
+    lines = split_lines(body.decode("latin-1"))
     rows_at = [k for k, ln in enumerate(lines) if ln.strip()]
     chunks, vertex_rows, lists, pos = [], None, None, 0
     for e in elements:
