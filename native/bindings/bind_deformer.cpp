@@ -6,6 +6,7 @@
 #include "edgedeform/deformer.h"
 #include "gil.h"
 #include "numpy_convert.h"
+#include "scalar_convert.h"
 #include "typed_args.h"
 
 namespace edgedeform::bindings {
@@ -110,10 +111,11 @@ projection, lifted: for the diagnostic that chose the method (bench/bench_newton
                                 "then solve.");
   bind_solve(m, deformer);  // bind_solve.cpp: solve() and its options, from one table
   deformer
-      .def(py::init([](const PointsArg& V, const FacesArg& F, const std::string& domain, bool clamp) {
+      .def(py::init([](const PointsArg& V, const FacesArg& F, const StrArg& domain, const BoolArg& clamp_arg) {
              RowMatrixX3d v = to_points(V.obj, "V");
              RowMatrixX3i f = to_faces(F.obj, "F");
-             const Domain d = parse_domain(domain);
+             const Domain d = parse_domain(to_str(domain.obj, "domain"));
+             const bool clamp = to_bool(clamp_arg.obj, "clamp_negative_weights");
              return without_gil([&] { return std::make_unique<Deformer>(v, f, d, clamp); });
            }),
            py::arg("V"), py::arg("F"), py::arg("domain") = "edge", py::arg("clamp_negative_weights") = true,
@@ -126,10 +128,10 @@ semi-definite, as CGAL's ARAP does). Raises ValueError for a malformed or degene
       .def(
           "set_constraints",
           [](Deformer& d, const IndicesArg& handles, const OptionalIndicesArg& statics, const OptionalIndicesArg& roi,
-             std::optional<double> roi_radius, bool roi_connected, const OptionalIndicesArg& roi_from) {
+             const OptionalFloatArg& roi_radius, const BoolArg& roi_connected, const OptionalIndicesArg& roi_from) {
             ConstraintSets sets = constraint_sets(handles.obj, statics.obj, roi.obj);
-            sets.roi_radius = roi_radius;
-            sets.roi_connected = roi_connected;
+            sets.roi_radius = to_optional_float(roi_radius.obj, "roi_radius");
+            sets.roi_connected = to_bool(roi_connected.obj, "roi_connected");
             if (!roi_from.obj.is_none()) sets.roi_from = to_indices(roi_from.obj, "roi_from");
             without_gil([&] { d.set_constraints(sets); });
           },
@@ -149,8 +151,9 @@ positions, bit for bit.
 roi_from: (k,) the vertices roi_radius is measured from, or None for the handles (Blender
 measures from what it moves: a tool that pins other handles passes only the dragged ones).
 Raises ValueError when a vertex is both handle and static, for a roi_radius that is not finite
-and > 0, roi together with roi_radius, roi_connected or roi_from without roi_radius, an empty
-roi_from, or a roi_radius that leaves no vertex free; IndexError when an index is out of range.)doc")
+and > 0, roi together with roi_radius, roi_connected or roi_from without roi_radius, or an
+empty roi_from; NoFreeVertexError (a ValueError) for a roi_radius that leaves no vertex free;
+IndexError when an index is out of range.)doc")
       .def(
           "set_stiffness",
           [](Deformer& d, const StiffnessArg& stiffness) {

@@ -3,6 +3,7 @@
 // text, and the acceleration methods. A new SolveOptions field or method is one line in a
 // table; help(), the defaults the command line, the add-on and the docs read
 // (docs/decisions/0050-one-source-for-solve-options.md) and the argument checks follow.
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -15,6 +16,7 @@
 #include "edgedeform/errors.h"
 #include "gil.h"
 #include "numpy_convert.h"
+#include "scalar_convert.h"
 #include "signal_check.h"
 #include "typed_args.h"
 
@@ -94,26 +96,30 @@ template <>
 struct Codec<int> {
   static std::string type() { return "int"; }
   static py::object to_python(int v) { return py::int_(v); }
-  static int from_python(const py::handle& h, const char* name) { return cast_argument<int>(h, name, "an int"); }
+  static int from_python(const py::handle& h, const char* name) {
+    for (const IntRange& range : {kMaxIterationsRange, kAndersonWindowRange})
+      if (std::string(name) == range.name) return to_int(h, range);
+    return to_int(h, IntRange{name, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()});
+  }
 };
 template <>
 struct Codec<double> {
   static std::string type() { return "float"; }
   static py::object to_python(double v) { return py::float_(v); }
-  static double from_python(const py::handle& h, const char* name) { return cast_argument<double>(h, name, "a float"); }
+  static double from_python(const py::handle& h, const char* name) { return to_float(h, name); }
 };
 template <>
 struct Codec<bool> {
   static std::string type() { return "bool"; }
   static py::object to_python(bool v) { return py::bool_(v); }
-  static bool from_python(const py::handle& h, const char* name) { return cast_argument<bool>(h, name, "a bool"); }
+  static bool from_python(const py::handle& h, const char* name) { return to_bool(h, name); }
 };
 template <>
 struct Codec<Acceleration> {
   static std::string type() { return "str"; }
   static py::object to_python(Acceleration v) { return py::str(acceleration_name(v)); }
   static Acceleration from_python(const py::handle& h, const char* name) {
-    return parse_acceleration(cast_argument<std::string>(h, name, "a str"));  // ValueError names the methods
+    return parse_acceleration(to_str(h, name));  // ValueError names the methods
   }
 };
 template <>
@@ -213,6 +219,10 @@ void bind_solve(py::module_& m, py::class_<Deformer>& deformer) {
     defaults[name] = Codec<T>::to_python(field(options));
   });
   m.attr("SOLVE_DEFAULTS") = defaults;
+  py::dict ranges;  // the integer options' ranges, for callers that check before a solve (the CLI)
+  for (const IntRange& range : {kMaxIterationsRange, kAndersonWindowRange})
+    ranges[range.name] = py::make_tuple(range.low, range.high);
+  m.attr("SOLVE_INT_RANGES") = ranges;
   py::list methods;
   for (const Method& method : kMethods) methods.append(acceleration_name(method.value));
   m.attr("ACCELERATIONS") = py::tuple(methods);

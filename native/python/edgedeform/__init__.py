@@ -9,13 +9,15 @@ import types
 import numpy as np
 
 from . import _core
-from ._core import FactorizationError, NewtonOptions, SolveResult, build_info
+from ._core import FactorizationError, NewtonOptions, NoFreeVertexError, SolveResult, build_info
 from ._core import Deformer as _NativeDeformer
 from ._core import metrics
+from .format_error import MeshFormatError
 from .welding import Welding
 
-__all__ = ["Deformer", "NewtonOptions", "SolveResult", "FactorizationError", "Welding", "build_info",
-           "metrics", "ACCELERATIONS", "SOLVE_DEFAULTS"]
+__all__ = ["Deformer", "NewtonOptions", "SolveResult", "FactorizationError", "NoFreeVertexError",
+           "MeshFormatError", "Welding", "build_info", "metrics", "ACCELERATIONS", "SOLVE_DEFAULTS",
+           "SOLVE_INT_RANGES"]
 __version__ = build_info()["version"]
 
 # What Deformer.solve takes, as the core defines it (SolveOptions and the table of
@@ -23,6 +25,8 @@ __version__ = build_info()["version"]
 # The command line, the add-on and the docs read these instead of restating them.
 ACCELERATIONS = tuple(_core.ACCELERATIONS)
 SOLVE_DEFAULTS = types.MappingProxyType(dict(_core.SOLVE_DEFAULTS))
+# (low, high) of each integer option, as the core checks it: {"max_iterations": (1, 2**31 - 1), ...}
+SOLVE_INT_RANGES = types.MappingProxyType(dict(_core.SOLVE_INT_RANGES))
 
 
 def _sparse(coo):

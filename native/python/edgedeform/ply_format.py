@@ -154,6 +154,9 @@ def _parse_header(data):
             raise at_line(line_no, f"header line '{raw.strip()}' is not understood")
     if fmt not in ("ascii", "binary_little_endian", "binary_big_endian"):
         raise MeshFormatError(f"unknown PLY format '{fmt}'" if fmt else "the header has no 'format' line")
+    for e in elements:
+        if not e.properties:  # rows of no bytes: a count that nothing in the file can check
+            raise MeshFormatError(f"element '{e.name}' declares no properties")
     return data[:size], fmt, elements, len(lines) + 2
 
 
