@@ -39,7 +39,7 @@ HOSTILE = {
     "ply_negative_vertex_count": (".ply", ply_ascii(vertices=-2),
                                   "PLY line 3: negative count of 'vertex' rows (-2)"),
     "ply_face_rows_1e12": (".ply", ply_ascii(faces=10**12),
-                           "element 'face' declares 1000000000000 rows, the file has 1 lines left"),
+                           "element 'face' declares 1000000000000 rows, the file has at most 2 lines left"),
     "ply_binary_vertex_rows_2e40": (".ply", ply_binary(vertices=2**40),
                                     "element 'vertex' declares 1099511627776 rows, which need at least"),
     "ply_binary_face_rows_over": (".ply", ply_binary(faces=5),
@@ -58,7 +58,7 @@ HOSTILE = {
     "off_negative_vertex_count": (".off", off("-2 7 0", TRIANGLE + "3 0 1 2\n3 0 2 1\n"),
                                   "OFF line 2: negative count of vertices (-2)"),
     "off_face_rows_1e12": (".off", off("3 1000000000000 0"),
-                           "OFF line 2: 3 vertices and 1000000000000 faces declared, the file has 4 lines"),
+                           "OFF line 2: 3 vertices and 1000000000000 faces declared, the file has at most 5 lines"),
     "off_face_corners_1e8": (".off", off(body=TRIANGLE + "100000000 0 1 2\n"),
                              "OFF line 6: the face declares 100000000 corners, the line has 3 numbers"),
     # malformed lines, named
@@ -80,6 +80,17 @@ HOSTILE = {
     "obj_nan_vertex": (".obj", b"v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n",
                        "vertex 1 (0-based, in file order) has a coordinate that is not finite"),
     "off_face_word": (".off", off(body=TRIANGLE + "3 0 1 x\n"), "OFF line 6: 'x' is not a vertex index"),
+}
+
+# Large hostile files (about 30 MB each, made when needed): a lie or a bad line early in a
+# long file, which a reader must refuse without parsing, or even splitting, the rest.
+JUNK_LINES = 2_000_000
+LARGE = {
+    "large_off_bad_face_then_junk": (".off", lambda: off(body=TRIANGLE + "3 0 1 x\n" + "1 2 3 4 5 6 7 8\n" * JUNK_LINES)),
+    "large_obj_bad_index_then_junk": (".obj", lambda: b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n" +
+                                      b"x 1 2 3 4 5 6\n" * JUNK_LINES),
+    "large_ply_ascii_face_rows_1e8": (".ply", lambda: ply_ascii(faces=10**8, body=TRIANGLE + "3 0 1 2\n" * JUNK_LINES)),
+    "large_ply_binary_face_rows_1e8": (".ply", lambda: ply_binary(faces=10**8) + bytes(30_000_000)),
 }
 
 # Valid files the readers once refused or misread: (extension, bytes, the same mesh without

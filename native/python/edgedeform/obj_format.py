@@ -17,7 +17,7 @@ import numpy as np
 from .format_error import at_line, parse_number
 from .number_text import floats_text
 from .polygons import accumulate_unit, face_normals
-from .text_lines import line_ending, split_lines
+from .text_lines import iter_lines, line_ending, split_lines
 
 
 class ObjFile:
@@ -60,13 +60,13 @@ def _index(token, count, what, line_no):
 
 
 def read(text):
-    """Parse OBJ text. Raises MeshFormatError naming the line for malformed input."""
-    lines = split_lines(text)
+    """Parse OBJ text. Raises MeshFormatError naming the line for malformed input, having
+    read the file only up to that line."""
     v_lines, v_extra, coords, vn_lines, normals = [], [], [], [], []
     sizes, corners, corner_normals = [], [], []
     has = set()
     n_vt = 0
-    for line_no, line in enumerate(lines):
+    for line_no, (line, _) in enumerate(iter_lines(text)):
         tokens = line.split("#", 1)[0].split()
         if not tokens:
             continue
@@ -101,6 +101,7 @@ def read(text):
             has.add("materials (mtllib, usemtl)")
     if vn_lines:
         has.add("normals (vn)")
+    lines = split_lines(text)   # kept for the rewrite, once the file is known to be sound
     return ObjFile(lines, v_lines, v_extra, vn_lines, np.array(normals, dtype=np.float64).reshape(-1, 3),
                    np.array(sizes, dtype=np.int64),
                    np.array(corners, dtype=np.int64), np.array(corner_normals, dtype=np.int64),

@@ -14,7 +14,7 @@ import numpy as np
 from .format_error import at_line, parse_index, parse_number, require_count
 from .number_text import float_text, floats_text
 from .polygons import vertex_normals
-from .text_lines import line_ending, split_lines
+from .text_lines import iter_lines, line_ending, lines_at_most
 
 
 class OffFile:
@@ -49,43 +49,44 @@ def _data(line):
 
 
 def read(text):
-    """Parse OFF text. Every count is checked against the lines that are there before any
-    array is made; a bad file raises MeshFormatError naming the line."""
-    lines = split_lines(text)
-    data = ((k, _data(line).split()) for k, line in enumerate(lines))
-    data = [(k, t) for k, t in data if t]
-    if not data or not data[0][1][0].upper().endswith("OFF"):
-        raise at_line(data[0][0] if data else 0, "missing OFF header")
-    keyword = data[0][1][0]
-    prefix = keyword[:-3]  # [ST][C][N][4][n]OFF
-    if "BINARY" in (t.upper() for t in data[0][1][1:]):
-        raise at_line(data[0][0], "binary OFF is not supported (write it as text OFF or PLY)")
-    if "4" in prefix or prefix.endswith("n"):
-        raise at_line(data[0][0], f"'{keyword}' (4D or nD vertices) is not supported")
-    prefix = prefix.upper()
-    if set(prefix) - set("STCN"):
-        raise at_line(data[0][0], f"unknown OFF header '{keyword}'")
-    has_normals = "N" in prefix
-    counts_line, head, rows = data[0][0], data[0][1][1:], data[1:]
-    if not head:
-        if not rows:
-            raise at_line(counts_line, "missing vertex and face counts")
-        (counts_line, head), rows = rows[0], rows[1:]
-    if len(head) < 2:
-        raise at_line(counts_line, f"expected the vertex and face counts, found {' '.join(head)!r}")
+    """Parse OFF text. The counts are checked against the lines that are there before any
+    line after them is parsed, and the lines are parsed one at a time, so a bad file is
+    refused without splitting the rest of it; MeshFormatError names the line."""
+    lines, rows = [], []   # every line read so far; (line number, tokens) of its data lines
+    offset = 0
+    for line, offset in iter_lines(text):
+        lines.append(line)
+        t = _data(line).split()
+        if t:
+            rows.append((len(lines) - 1, t))
+        if len(rows) == 2 or (len(rows) == 1 and len(t) > 1):
+            break
+    keyword, has_normals, counts_line, head = _header(rows)
     nv = require_count(head[0], counts_line, "vertices")
     nf = require_count(head[1], counts_line, "faces")
-    if len(rows) < nv + nf:
-        raise at_line(counts_line, f"{nv} vertices and {nf} faces declared, the file has "
-                                   f"{len(rows)} lines of data after this one")
+    if nv + nf > lines_at_most(text, offset):
+        raise at_line(counts_line, f"{nv} vertices and {nf} faces declared, the file has at most "
+                                   f"{lines_at_most(text, offset)} lines after this one")
     per_vertex = 6 if has_normals else 3
-    coords = []
-    for k, t in rows[:nv]:
-        if len(t) < per_vertex:
-            raise at_line(k, f"a vertex line needs {per_vertex} numbers for '{keyword}', found {len(t)}")
-        coords.append([parse_number(x, float, k, "a coordinate") for x in t[:per_vertex]][:3])
-    sizes, corners, face_colours = [], [], False
-    for k, t in rows[nv:nv + nf]:
+    coords, v_lines, sizes, corners, face_colours = [], [], [], [], False
+    lines_iter = iter_lines(text, offset)
+    while len(v_lines) + len(sizes) < nv + nf:
+        try:
+            line, offset = next(lines_iter)
+        except StopIteration:
+            raise at_line(counts_line, f"{nv} vertices and {nf} faces declared, the file has "
+                                       f"{len(v_lines) + len(sizes)} lines of data after this one") from None
+        k = len(lines)
+        lines.append(line)
+        t = _data(line).split()
+        if not t:
+            continue
+        if len(v_lines) < nv:
+            if len(t) < per_vertex:
+                raise at_line(k, f"a vertex line needs {per_vertex} numbers for '{keyword}', found {len(t)}")
+            coords.append([parse_number(x, float, k, "a coordinate") for x in t[:per_vertex]][:3])
+            v_lines.append(k)
+            continue
         size = parse_number(t[0], int, k, "a face's corner count")
         if size < 3:
             raise at_line(k, f"a face needs at least 3 corners, this one declares {size}")
@@ -94,18 +95,44 @@ def read(text):
         corners += [parse_index(x, k) for x in t[1:1 + size]]
         sizes.append(size)
         face_colours = face_colours or len(t) > 1 + size
+    if offset < len(text):
+        lines.append(text[offset:])   # whatever follows the faces, kept as it is
     has = set()
-    if "C" in prefix:
+    if "C" in keyword.upper()[:-3]:
         has.add("vertex colours")
-    if "ST" in prefix:
+    if "ST" in keyword.upper()[:-3]:
         has.add("texture coordinates")
     if has_normals:
         has.add("vertex normals")
     if face_colours:
         has.add("face colours")
-    return (OffFile(lines, [k for k, _ in rows[:nv]], has_normals, np.array(sizes, dtype=np.int64),
+    return (OffFile(lines, v_lines, has_normals, np.array(sizes, dtype=np.int64),
                     np.array(corners, dtype=np.int64), has),
             np.array(coords, dtype=np.float64).reshape(-1, 3))
+
+
+def _header(rows):
+    """(keyword, has normals, the counts' line number, the counts' tokens) from the first one
+    or two data lines."""
+    if not rows or not rows[0][1][0].upper().endswith("OFF"):
+        raise at_line(rows[0][0] if rows else 0, "missing OFF header")
+    line_no, tokens = rows[0]
+    keyword = tokens[0]
+    prefix = keyword[:-3]  # [ST][C][N][4][n]OFF
+    if "BINARY" in (t.upper() for t in tokens[1:]):
+        raise at_line(line_no, "binary OFF is not supported (write it as text OFF or PLY)")
+    if "4" in prefix or prefix.endswith("n"):
+        raise at_line(line_no, f"'{keyword}' (4D or nD vertices) is not supported")
+    if set(prefix.upper()) - set("STCN"):
+        raise at_line(line_no, f"unknown OFF header '{keyword}'")
+    head = tokens[1:]
+    if not head:
+        if len(rows) < 2:
+            raise at_line(line_no, "missing vertex and face counts")
+        line_no, head = rows[1]
+    if len(head) < 2:
+        raise at_line(line_no, f"expected the vertex and face counts, found {' '.join(head)!r}")
+    return keyword, "N" in prefix.upper(), line_no, head
 
 
 def write_plain(positions, sizes, corners):

@@ -277,6 +277,12 @@ def _ascii_face(tokens, element, line_no):
 def _ascii_elements(body, elements, first_line):
     """Each element's lines, the vertex rows (token lists) and the face lists. `first_line`:
     the body's first line in the file (0-based), for the messages."""
+    left = body.count(b"\n") + body.count(b"\r") + 1   # at most this many lines: checked before splitting
+    for e in elements:
+        if e.count > left:
+            raise MeshFormatError(f"element '{e.name}' declares {e.count} rows, the file has at most {left} lines "
+                                  f"left for it")
+        left -= e.count
     lines = split_lines(body.decode("latin-1"))
     rows_at = [k for k, ln in enumerate(lines) if ln.strip()]
     chunks, vertex_rows, lists, pos = [], None, None, 0

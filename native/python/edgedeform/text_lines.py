@@ -7,11 +7,24 @@ Only "\\n", "\\r\\n" and "\\r" end a line: str.splitlines would also split at fo
 import re
 
 _BREAK = re.compile(r"(?<=\n)|(?<=\r)(?!\n)")
+_LINE = re.compile(r"[^\r\n]*(?:\r\n|\n|\r)|[^\r\n]+\Z")
 
 
 def split_lines(text):
     """The lines of `text`, each with its line ending; "".join gives `text` back."""
     return [line for line in _BREAK.split(text) if line]
+
+
+def iter_lines(text, start=0):
+    """(line with its ending, offset after it) from `start` on, one at a time: a reader that
+    stops early never splits the rest of a large file."""
+    for match in _LINE.finditer(text, start):
+        yield match.group(), match.end()
+
+
+def lines_at_most(text, start=0):
+    """An upper bound of the lines from `start` on, without splitting them."""
+    return text.count("\n", start) + text.count("\r", start) + 1
 
 
 def line_ending(line):
