@@ -1,4 +1,4 @@
-"""Hostile arguments to the API and the command line (issue 37): an integer out of range is
+"""Hostile arguments to the API and the command line (docs/robustness.md): an integer out of range is
 a ValueError naming the argument and its range (a usage error naming the option in the CLI,
 never "internal error"); a wrong type is a short TypeError naming the argument, not a
 listing of every argument; a radius that frees nothing is a NoFreeVertexError that suggests a
