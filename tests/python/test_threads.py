@@ -82,10 +82,15 @@ def repeat(script, arg, expect_status, expect_out):
         assert out.split() == expect_out, f"run {k}: {out!r}\n{err}"
 
 
+POSIX_SIGNALS = pytest.mark.skipif(sys.platform == "win32", reason="os.kill(pid, SIGINT) is not Ctrl-C on Windows")
+
+
+@POSIX_SIGNALS
 def test_ctrl_c_caught_while_joining_a_solving_thread_exits_with_130():
     repeat(JOIN, "caught", 130, ["interrupted"])
 
 
+@POSIX_SIGNALS
 def test_ctrl_c_uncaught_while_joining_a_solving_thread_ends_as_python_does():
     """An uncaught KeyboardInterrupt ends a Python process by SIGINT (status -2 here)."""
     repeat(JOIN, "uncaught", -signal.SIGINT, [])
