@@ -91,6 +91,7 @@ LARGE = {
                                       b"x 1 2 3 4 5 6\n" * JUNK_LINES),
     "large_ply_ascii_face_rows_1e8": (".ply", lambda: ply_ascii(faces=10**8, body=TRIANGLE + "3 0 1 2\n" * JUNK_LINES)),
     "large_ply_binary_face_rows_1e8": (".ply", lambda: ply_binary(faces=10**8) + bytes(30_000_000)),
+    "large_ply_header_of_blank_lines": (".ply", lambda: b"ply\nformat ascii 1.0\n" + b"\n" * 30_000_000),
 }
 
 # Valid files the readers once refused or misread: (extension, bytes, the same mesh without

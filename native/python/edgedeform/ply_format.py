@@ -103,22 +103,28 @@ def _find(elements, name):
     raise MeshFormatError(f"the header declares no '{name}' element")
 
 
-def _header_lines(data):
-    """([(0-based line number, text) of each header line between 'ply' and 'end_header'],
-    the header's length in bytes through end_header's newline). Line by line: 'end_header'
-    inside a comment does not end it."""
-    lines, pos, line_no = [], 0, 0
+HEADER_LIMIT = 256 << 10   # bytes: real headers are a few hundred; a longer one is not a header
+
+
+def _header_lines(data, ends):
+    """Yields (0-based line number, text) of each header line between 'ply' and 'end_header',
+    one at a time, and sets ends[0] to the header's length in bytes through end_header's
+    newline. Line by line: 'end_header' inside a comment does not end it."""
+    pos, line_no = 0, 0
     while True:
-        end = data.find(b"\n", pos)
+        end = data.find(b"\n", pos, HEADER_LIMIT)
+        if end < 0 and len(data) > HEADER_LIMIT:
+            raise MeshFormatError(f"no 'end_header' line in the first {HEADER_LIMIT} bytes")
         stop = len(data) if end < 0 else end + 1
         text = data[pos:stop].decode("latin-1").rstrip("\r\n")
         if line_no == 0:
             if text.strip() != "ply":
                 raise at_line(0, "not a PLY file (the first line is not 'ply')")
         elif text.split() == ["end_header"]:
-            return lines, stop
+            ends[0] = stop
+            return
         else:
-            lines.append((line_no, text))
+            yield line_no, text
         if end < 0:
             raise MeshFormatError("the header has no 'end_header' line")
         pos, line_no = stop, line_no + 1
@@ -126,9 +132,8 @@ def _header_lines(data):
 
 def _parse_header(data):
     """(header bytes, format, elements, the body's first line number)."""
-    fmt, elements = None, []
-    lines, size = _header_lines(data)
-    for line_no, raw in lines:
+    fmt, elements, ends, line_no = None, [], [None], 0
+    for line_no, raw in _header_lines(data, ends):
         t = raw.split()
         if not t or t[0] in ("comment", "obj_info"):
             continue
@@ -157,7 +162,7 @@ def _parse_header(data):
     for e in elements:
         if not e.properties:  # rows of no bytes: a count that nothing in the file can check
             raise MeshFormatError(f"element '{e.name}' declares no properties")
-    return data[:size], fmt, elements, len(lines) + 2
+    return data[:ends[0]], fmt, elements, line_no + 2
 
 
 def _too_short(element, rows, need, left):
