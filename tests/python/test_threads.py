@@ -58,8 +58,19 @@ def pick_forever():   # the region over the surface, the slower pick
         started.set()
         d.set_constraints(handles=handles, static=static, roi_radius=0.3, roi_connected=True)
 
-threading.Thread(target={"solve": solve_forever, "pick": pick_forever}[sys.argv[1]],
-                 daemon=True).start()
+def factor_forever():   # a new stiffness: each solve starts with a factorization
+    for k in range(10**9):
+        started.set()
+        d.set_stiffness(0.3 + 0.4 * (k % 2))
+        d.solve(targets, max_iterations=1, warm_start=False)
+
+def build_forever():
+    while True:
+        started.set()
+        ed.Deformer(V, F).set_constraints(handles=handles, static=static)
+
+work = {"solve": solve_forever, "pick": pick_forever, "factor": factor_forever, "build": build_forever}
+threading.Thread(target=work[sys.argv[1]], daemon=True).start()
 started.wait()
 time.sleep(0.05)
 print("returning", flush=True)
@@ -96,6 +107,6 @@ def test_ctrl_c_uncaught_while_joining_a_solving_thread_ends_as_python_does():
     repeat(JOIN, "uncaught", -signal.SIGINT, [])
 
 
-@pytest.mark.parametrize("work", ["solve", "pick"])
+@pytest.mark.parametrize("work", ["solve", "pick", "factor", "build"])
 def test_interpreter_exit_while_a_daemon_thread_is_in_the_core_exits_0(work):
     repeat(DAEMON, work, 0, ["returning"])
