@@ -67,6 +67,20 @@ def test_wrong_type_is_a_short_type_error_naming_the_argument(spot, call, words)
     assert str(err.value) == words
 
 
+@pytest.mark.parametrize("args, kwargs, words", [
+    ((), {"max_iter": 5}, "got an unexpected keyword argument 'max_iter'"),
+    ((5,), {"max_iterations": 5}, "multiple values for argument 'max_iterations'"),
+    (tuple(range(len(ed.SOLVE_DEFAULTS) + 1)), {}, "too many positional arguments"),
+])
+def test_misbound_solve_argument_is_pythons_short_error(spot, args, kwargs, words):
+    """solve()'s binding is pybind11's own; its 'incompatible function arguments' (every
+    argument's value, the targets array included) never reaches the user."""
+    d, targets, *_ = spot
+    with pytest.raises(TypeError) as err:
+        d.solve(targets, *args, **kwargs)
+    assert str(err.value) == words
+
+
 def test_radius_that_frees_nothing_is_a_no_free_vertex_error(spot):
     d, targets, handles, static = spot
     with pytest.raises(ed.NoFreeVertexError, match="increase the radius$") as err:
