@@ -4,9 +4,10 @@
 # into a venv of its own (BUILD_DIR/fuzz_venv, Debian's NumPy seen through
 # --system-site-packages), made once.
 # Usage: run_fuzz_readers.sh SOURCE_DIR BUILD_DIR EXT SECONDS      (EXT: obj, off or ply)
-# An input slower than 30 s counts as a finding (the timing tests hold the readers to 1 s;
-# the margin is for a loaded machine). A finding stops the run with the input saved as BUILD_DIR/fuzz_readers/EXT/crash-*: fix the
-# reader, then keep the input as tests/fuzz/readers/findings/EXT/<what it found>.EXT.
+# A finding stops the run with the input saved as BUILD_DIR/fuzz_readers/EXT/crash-* (or
+# timeout-*: an input slower than 30 s; the timing tests hold the readers to 1 s, the margin
+# is for a loaded machine). Fix the reader, then keep the input as
+# tests/fuzz/readers/findings/EXT/<what it found>.EXT.
 set -euo pipefail
 source_dir=$1
 build_dir=$2
