@@ -27,6 +27,7 @@ OFF = {
     "coff": "COFF\n3 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n0 1 0 0 0 255 255\n3 0 1 2 1 0 0\n",
     "noff_counts_on_header": "NOFF 3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n",
     "stoff": "STOFF\n3 1 3\n0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n3 0 1 2\n",
+    "crlf": "OFF\r\n3 1 0\r\n0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n",
 }
 
 
@@ -43,6 +44,7 @@ def ply_seeds():
         ["list uchar int vertex_indices", "uchar flags"], 4, 2,
         "element edge 1\nproperty int vertex1\nproperty int vertex2\n") + \
         b"0 0 0 0 0 1 9\n1 0 0 0 0 1 9\n1 1 0 0 0 1 9\n0 1 0 0 0 1 9\n4 0 1 2 3 7\n3 0 1 2 1\n0 1\n"
+    out["ascii_crlf"] = out["ascii_normals_colours"].replace(b"\n", b"\r\n")
     V = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]
     for fmt, order in (("binary_little_endian", "<"), ("binary_big_endian", ">")):
         for coord, code in (("float", "f"), ("double", "d")):
