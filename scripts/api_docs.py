@@ -115,6 +115,7 @@ def synopsis(ed):
     lines += ["", "# What solve() takes, as the core defines it (read these rather than restating them):",
               f"ed.ACCELERATIONS   # {ed.ACCELERATIONS!r}"]
     lines.append("ed.SOLVE_DEFAULTS  # read-only {name: default} of each solve() keyword above")
+    lines.append("ed.SOLVE_INT_RANGES  # read-only {name: (low, high)} of each integer keyword")
     return "```python\n" + "\n".join(lines) + "\n```"
 
 

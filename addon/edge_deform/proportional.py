@@ -14,7 +14,6 @@ SHRINK = {'PAGE_DOWN', 'WHEELUPMOUSE'}
 SMALLEST = 1e-6     # the property's minimum (Blender's T_PROP_SIZE_MIN)
 KEYS = "Wheel/PgUp/PgDn: radius · O: proportional · Alt+O: connected"
 SHORT_KEYS = "Wheel/PgUp/PgDn, O"   # (Grab's header; its status bar lists them in full)
-NO_FREE_VERTEX = "no free vertex within roi_radius"   # the core's ValueError says this
 
 
 def size_key(event):
@@ -62,7 +61,7 @@ def describe(settings):
 
 
 def refusal(radius, connected):
-    """The plain words for the core's "no free vertex within roi_radius"."""
+    """The plain words for the core's NoFreeVertexError."""
     return ("No vertex can move within %s of the handles%s (they are too far, or Static "
             "holds them): make the radius larger (Wheel, Page Up) or turn Proportional off "
             "(O)" % (length(radius), " along the mesh" if connected else ""))

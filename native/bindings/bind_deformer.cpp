@@ -4,7 +4,9 @@
 #include <pybind11/stl.h>
 
 #include "edgedeform/deformer.h"
+#include "gil.h"
 #include "numpy_convert.h"
+#include "scalar_convert.h"
 #include "typed_args.h"
 
 namespace edgedeform::bindings {
@@ -77,12 +79,12 @@ void bind_deformer(py::module_& m) {
                                 "then solve.");
   bind_solve(m, deformer);  // bind_solve.cpp: solve() and its options, from one table
   deformer
-      .def(py::init([](const PointsArg& V, const FacesArg& F, const std::string& domain, bool clamp) {
+      .def(py::init([](const PointsArg& V, const FacesArg& F, const StrArg& domain, const BoolArg& clamp_arg) {
              RowMatrixX3d v = to_points(V.obj, "V");
              RowMatrixX3i f = to_faces(F.obj, "F");
-             const Domain d = parse_domain(domain);
-             py::gil_scoped_release release;
-             return std::make_unique<Deformer>(v, f, d, clamp);
+             const Domain d = parse_domain(to_str(domain.obj, "domain"));
+             const bool clamp = to_bool(clamp_arg.obj, "clamp_negative_weights");
+             return without_gil([&] { return std::make_unique<Deformer>(v, f, d, clamp); });
            }),
            py::arg("V"), py::arg("F"), py::arg("domain") = "edge", py::arg("clamp_negative_weights") = true,
            R"doc(Builds the graph of a mesh.
@@ -94,13 +96,12 @@ semi-definite, as CGAL's ARAP does). Raises ValueError for a malformed or degene
       .def(
           "set_constraints",
           [](Deformer& d, const IndicesArg& handles, const OptionalIndicesArg& statics, const OptionalIndicesArg& roi,
-             std::optional<double> roi_radius, bool roi_connected, const OptionalIndicesArg& roi_from) {
+             const OptionalFloatArg& roi_radius, const BoolArg& roi_connected, const OptionalIndicesArg& roi_from) {
             ConstraintSets sets = constraint_sets(handles.obj, statics.obj, roi.obj);
-            sets.roi_radius = roi_radius;
-            sets.roi_connected = roi_connected;
+            sets.roi_radius = to_optional_float(roi_radius.obj, "roi_radius");
+            sets.roi_connected = to_bool(roi_connected.obj, "roi_connected");
             if (!roi_from.obj.is_none()) sets.roi_from = to_indices(roi_from.obj, "roi_from");
-            py::gil_scoped_release release;
-            d.set_constraints(sets);
+            without_gil([&] { d.set_constraints(sets); });
           },
           py::arg("handles"), py::arg("static") = py::none(), py::arg("roi") = py::none(),
           py::arg("roi_radius") = py::none(), py::arg("roi_connected") = false, py::arg("roi_from") = py::none(),
@@ -118,8 +119,9 @@ positions, bit for bit.
 roi_from: (k,) the vertices roi_radius is measured from, or None for the handles (Blender
 measures from what it moves: a tool that pins other handles passes only the dragged ones).
 Raises ValueError when a vertex is both handle and static, for a roi_radius that is not finite
-and > 0, roi together with roi_radius, roi_connected or roi_from without roi_radius, an empty
-roi_from, or a roi_radius that leaves no vertex free; IndexError when an index is out of range.)doc")
+and > 0, roi together with roi_radius, roi_connected or roi_from without roi_radius, or an
+empty roi_from; NoFreeVertexError (a ValueError) for a roi_radius that leaves no vertex free;
+IndexError when an index is out of range.)doc")
       .def(
           "set_stiffness",
           [](Deformer& d, const StiffnessArg& stiffness) {
@@ -127,14 +129,12 @@ roi_from, or a roi_radius that leaves no vertex free; IndexError when an index i
             if (py::isinstance<py::float_>(lam) || py::isinstance<py::int_>(lam)) {
               const double value = lam.cast<double>();
               // Without the GIL, like every call that waits for the Deformer's lock: a solve
-              // in another thread takes the GIL briefly to check for Ctrl-C.
-              py::gil_scoped_release release;
-              d.set_stiffness(value);
+              // in the main thread takes the GIL briefly to check for Ctrl-C.
+              without_gil([&] { d.set_stiffness(value); });
               return;
             }
             Eigen::VectorXd v = to_vector(lam, "stiffness");
-            py::gil_scoped_release release;
-            d.set_stiffness(v);
+            without_gil([&] { d.set_stiffness(v); });
           },
           py::arg("stiffness"),
           R"doc(Material stiffness lambda in [0, 1]: one float for the whole mesh, or (n,) one per vertex.
@@ -145,8 +145,7 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
           "energy",
           [](const Deformer& d, const PointsArg& X) {
             RowMatrixX3d x = to_points(X.obj, "X");
-            py::gil_scoped_release release;
-            return d.energy(x);
+            return without_gil([&] { return d.energy(x); });
           },
           py::arg("X"), "Energy of positions X (n, 3) over every node, with rotations and scales fitted to X.")
       .def_property_readonly("n_vertices", &Deformer::n_vertices, "vertices of the mesh")
@@ -184,8 +183,8 @@ the mean of their two vertices. Only a numeric refactorization follows; the anal
       .def(
           "node_stiffness",
           [](const Deformer& d) {
-            py::gil_scoped_release release;  // node_lambda() waits for a solve in another thread
-            return d.node_lambda();
+            // node_lambda() waits for a solve in another thread
+            return without_gil([&] { return d.node_lambda(); });
           },
           "(n_nodes,) float64 lambda per node under the current stiffness")
       .def("_laplacian_coo", [](const Deformer& d) { return to_coo(d.graph().laplacian()); })

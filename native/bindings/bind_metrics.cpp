@@ -1,6 +1,7 @@
 #include <pybind11/stl.h>
 
 #include "edgedeform/metrics.h"
+#include "gil.h"
 #include "numpy_convert.h"
 #include "typed_args.h"
 
@@ -16,11 +17,7 @@ void bind_metrics(py::module_& m) {
         const RowMatrixX3d x = to_points(deformed.obj, "V_def");
         const std::vector<int> h = to_indices(handles.obj, "handles");
         const RowMatrixX3d t = targets.obj.is_none() ? RowMatrixX3d(0, 3) : to_points(targets.obj, "targets");
-        QualityMetrics q;
-        {
-          py::gil_scoped_release release;
-          q = compute_metrics(r, f, x, h, t);
-        }
+        const QualityMetrics q = without_gil([&] { return compute_metrics(r, f, x, h, t); });
         py::dict out;
         out["handle_error"] = q.handle_error;
         out["mean_edge_strain"] = q.mean_edge_strain;

@@ -15,6 +15,8 @@ void bind_metrics(py::module_& m);
 PYBIND11_MODULE(_core, m) {
   m.doc() = "edgedeform native core: edge-graph deformation solver";
   py::register_exception<edgedeform::FactorizationError>(m, "FactorizationError", PyExc_RuntimeError);
+  // Errors a caller may want to tell apart, by type (never by message text).
+  py::register_exception<edgedeform::NoFreeVertexError>(m, "NoFreeVertexError", PyExc_ValueError);
   m.def("build_info", [] {
     py::dict info;
     info["version"] = edgedeform::version();

@@ -2,10 +2,15 @@
 
 #include <stdexcept>
 
+#include "gil.h"
+
 namespace edgedeform::bindings {
 
 SignalCheck::SignalCheck(std::chrono::milliseconds interval)
-    : interval_(interval), last_check_(std::chrono::steady_clock::now()) {}
+    : main_thread_(PyThread_get_thread_ident() ==
+                   py::module_::import("threading").attr("main_thread")().attr("ident").cast<unsigned long>()),
+      interval_(interval),
+      last_check_(std::chrono::steady_clock::now()) {}
 
 std::function<bool()> SignalCheck::callback() {
   return [this] { return poll(); };
@@ -16,11 +21,12 @@ bool SignalCheck::poll() {
   // must not use it up before the one that throws asks (measured when an inner solver loop
   // polled it: Ctrl-C was lost there, and the solve ran on for a minute).
   if (pending_) return true;
+  if (!main_thread_) return interpreter_finalizing();  // never the GIL: see gil.h
   const auto now = std::chrono::steady_clock::now();
   if (now - last_check_ < interval_) return false;
   last_check_ = now;
   py::gil_scoped_acquire gil;
-  // Runs the Python-level handlers of signals that arrived (main thread only; elsewhere 0).
+  // Runs the Python-level handlers of signals that arrived.
   if (PyErr_CheckSignals() == 0) return false;
   pending_.emplace();  // fetches the error the handler raised
   return true;

@@ -1,4 +1,4 @@
-// Argument wrappers that give the bindings readable signatures.
+// Argument wrappers that give the bindings readable signatures and their own errors.
 //
 // The bindings take NumPy-like arguments as raw Python objects so that numpy_convert.cpp can
 // validate them with messages that name the argument (a plain Eigen or array_t parameter would
@@ -23,6 +23,12 @@ struct OptionalIndicesArg { py::handle obj; }; // (k,) integers, or None
 struct OptionalPointsArg { py::handle obj; };  // (n, 3) floats, or None
 struct OptionalTargetsArg { py::handle obj; }; // (h, 3) floats, or None
 struct StiffnessArg { py::handle obj; };       // a float, or (n,) floats
+// Scalars, converted by scalar_convert.h (a wrong type is a short TypeError naming the argument)
+struct IntArg { py::handle obj; };
+struct FloatArg { py::handle obj; };
+struct OptionalFloatArg { py::handle obj; };
+struct BoolArg { py::handle obj; };
+struct StrArg { py::handle obj; };
 
 }  // namespace edgedeform::bindings
 
@@ -50,6 +56,11 @@ EDGEDEFORM_ANY_OBJECT_CASTER(OptionalIndicesArg, "Optional[numpy.ndarray[int[k]]
 EDGEDEFORM_ANY_OBJECT_CASTER(OptionalPointsArg, "Optional[numpy.ndarray[float64[n, 3]]]");
 EDGEDEFORM_ANY_OBJECT_CASTER(OptionalTargetsArg, "Optional[numpy.ndarray[float64[h, 3]]]");
 EDGEDEFORM_ANY_OBJECT_CASTER(StiffnessArg, "Union[float, numpy.ndarray[float64[n]]]");
+EDGEDEFORM_ANY_OBJECT_CASTER(IntArg, "int");
+EDGEDEFORM_ANY_OBJECT_CASTER(FloatArg, "float");
+EDGEDEFORM_ANY_OBJECT_CASTER(OptionalFloatArg, "Optional[float]");
+EDGEDEFORM_ANY_OBJECT_CASTER(BoolArg, "bool");
+EDGEDEFORM_ANY_OBJECT_CASTER(StrArg, "str");
 
 #undef EDGEDEFORM_ANY_OBJECT_CASTER
 

@@ -129,6 +129,26 @@ TEST(Deformer, FailedCallsLeaveItUsable) {
   EXPECT_LT((r.positions - s.mesh.V).norm(), 1e-9 * s.mesh.V.norm());
 }
 
+TEST(Deformer, IntegerOptionsOutsideTheirRangeNameTheRange) {
+  LiftSetup s;
+  Deformer d(s.mesh.V, s.mesh.F, Domain::Edge);
+  d.set_constraints({s.high, s.low, std::nullopt});
+  const RowMatrixX3d targets = s.rows(s.mesh.V, s.high);
+  SolveOptions none;
+  none.max_iterations = 0;
+  SolveOptions wide;
+  wide.anderson_window = 51;
+  for (const auto& [options, message] : {std::pair{none, "max_iterations must be an integer in [1, 2147483647], got 0"},
+                                          std::pair{wide, "anderson_window must be an integer in [1, 50], got 51"}}) {
+    try {
+      d.solve(targets, options);
+      ADD_FAILURE() << "accepted: " << message;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()), message);
+    }
+  }
+}
+
 TEST(Deformer, RegionOfInterestLimitsTheActiveTerms) {
   LiftSetup s;
   // ROI: the handle plus everything within a band below it.

@@ -9,6 +9,7 @@
 
 #include "edgedeform/constrained_system.h"
 #include "edgedeform/edge_topology.h"
+#include "edgedeform/errors.h"
 #include "edgedeform/mesh_checks.h"
 #include "edgedeform/region_by_distance.h"
 #include "test_meshes.h"
@@ -251,8 +252,29 @@ TEST(RegionByDistance, LayoutRejectsMixedOrEmptyRegions) {
   try {
     c.layout(too_small);
     FAIL() << "no free vertex, no error";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("no free vertex within roi_radius 0.01 of the handles"), std::string::npos)
+  } catch (const NoFreeVertexError& e) {  // a std::invalid_argument, of its own type
+    EXPECT_NE(std::string(e.what()).find("no free vertex within roi_radius 0.01 of the handles: increase the radius"),
+              std::string::npos)
         << e.what();
+  }
+}
+
+TEST(RegionByDistance, NoLargerRadiusIsSuggestedWhereNoneFreesAVertex) {
+  const Layout c;
+  for (bool along : {false, true}) {
+    ConstraintSets held;  // every vertex but the handle static: no radius frees one
+    held.handles = {40};
+    for (int v = 0; v < static_cast<int>(c.mesh.V.rows()); ++v)
+      if (v != 40) held.statics.push_back(v);
+    held.roi_radius = 0.01;
+    held.roi_connected = along;
+    try {
+      c.layout(held);
+      FAIL() << "no free vertex, no error";
+    } catch (const NoFreeVertexError& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.find("increase the radius"), std::string::npos) << what;
+      EXPECT_NE(what.find("so no radius frees one"), std::string::npos) << what;
+    }
   }
 }

@@ -92,8 +92,7 @@ def test_positional_and_keyword_arguments_bind_as_in_python(tetra):
     ((), {"acceleration": "fast"}, ValueError, 'got "fast"'),
     ((), {"max_iter": 10}, TypeError, "unexpected keyword argument 'max_iter'"),
     ((10,), {"max_iterations": 10}, TypeError, "multiple values for argument 'max_iterations'"),
-    (tuple(range(len(ed.SOLVE_DEFAULTS) + 1)), {}, TypeError,
-     f"at most {len(ed.SOLVE_DEFAULTS) + 1} positional arguments ({len(ed.SOLVE_DEFAULTS) + 2} given)"),
+    (tuple(range(len(ed.SOLVE_DEFAULTS) + 1)), {}, TypeError, "too many positional arguments"),
     ((), {"initial": np.zeros((2, 3))}, ValueError, "initial"),
 ])
 def test_bad_options_name_the_argument_and_change_nothing(tetra, args, kwargs, error, words):

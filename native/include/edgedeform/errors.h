@@ -11,6 +11,12 @@ struct FactorizationError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// set_constraints with a roi_radius that leaves no vertex free (a ValueError in Python:
+// edgedeform.NoFreeVertexError, which callers catch by type, not by its words).
+struct NoFreeVertexError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
 // SolveOptions::interrupt_requested returned true: the solve stopped between iterations.
 // The Deformer stays usable; the next solve does not warm-start from the interrupted one.
 struct SolveInterrupted : std::runtime_error {

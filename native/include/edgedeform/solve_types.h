@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +20,20 @@ enum class Acceleration { Automatic, Lbfgs, Anderson, None };
 const char* acceleration_name(Acceleration a);
 // "auto" | "lbfgs" | "anderson" | "none"; anything else throws std::invalid_argument.
 Acceleration parse_acceleration(const std::string& name);
+
+// The range of an integer option of a solve: Deformer::solve refuses a value outside it
+// (check_in_range), and the bindings give the same message for a Python int too large for
+// an int.
+struct IntRange {
+  const char* name;
+  int low, high;
+};
+inline constexpr IntRange kMaxIterationsRange{"max_iterations", 1, std::numeric_limits<int>::max()};
+inline constexpr IntRange kAndersonWindowRange{"anderson_window", 1, 50};
+// "max_iterations must be an integer in [1, 2147483647], got 0" (`value` as written).
+std::string out_of_range_message(const IntRange& range, const std::string& value);
+// Throws std::invalid_argument with that message when `value` is outside the range.
+void check_in_range(const IntRange& range, int value);
 
 struct SolveOptions {
   int max_iterations = 2000;

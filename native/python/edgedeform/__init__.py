@@ -4,18 +4,21 @@ A local/global solver that blends a rigid 1-form energy (weight lambda) with a r
 scale-aware Laplacian energy (weight 1 - lambda), with lambda per vertex. See docs/api.md.
 """
 
+import inspect
 import types
 
 import numpy as np
 
 from . import _core
-from ._core import FactorizationError, SolveResult, build_info
+from ._core import FactorizationError, NoFreeVertexError, SolveResult, build_info
 from ._core import Deformer as _NativeDeformer
 from ._core import metrics
+from .format_error import MeshFormatError
 from .welding import Welding
 
-__all__ = ["Deformer", "SolveResult", "FactorizationError", "Welding", "build_info",
-           "metrics", "ACCELERATIONS", "SOLVE_DEFAULTS"]
+__all__ = ["Deformer", "SolveResult", "FactorizationError", "NoFreeVertexError",
+           "MeshFormatError", "Welding", "build_info", "metrics", "ACCELERATIONS", "SOLVE_DEFAULTS",
+           "SOLVE_INT_RANGES"]
 __version__ = build_info()["version"]
 
 # What Deformer.solve takes, as the core defines it (SolveOptions and the table of
@@ -23,6 +26,11 @@ __version__ = build_info()["version"]
 # The command line, the add-on and the docs read these instead of restating them.
 ACCELERATIONS = tuple(_core.ACCELERATIONS)
 SOLVE_DEFAULTS = types.MappingProxyType(dict(_core.SOLVE_DEFAULTS))
+# solve()'s options after `targets`, in order, as a signature to bind arguments to.
+_SOLVE_OPTIONS = inspect.Signature([inspect.Parameter(name, inspect.Parameter.POSITIONAL_OR_KEYWORD, default=value)
+                                    for name, value in SOLVE_DEFAULTS.items()])
+# (low, high) of each integer option, as the core checks it: {"max_iterations": (1, 2**31 - 1), ...}
+SOLVE_INT_RANGES = types.MappingProxyType(dict(_core.SOLVE_INT_RANGES))
 
 
 def _sparse(coo):
@@ -111,18 +119,21 @@ class Deformer(_NativeDeformer):
         return X[self._welding.first]
 
     def solve(self, targets, *args, **kwargs):
+        # Python's own error for a misspelt, doubled or extra argument ("got an unexpected
+        # keyword argument 'max_iter'"), not pybind11's, which prints every argument's value.
+        options = _SOLVE_OPTIONS.bind(*args, **kwargs).arguments
         w = self._welding
         if w is None:
-            return super().solve(targets, *args, **kwargs)
+            return super().solve(targets, **options)
         if self._handles is None:
             raise ValueError("set_constraints(handles=...) must be called before solve")
         T = np.asarray(targets, dtype=np.float64)
         if T.ndim != 2 or len(T) != len(self._handles):
             raise ValueError(f"targets has shape {T.shape}, expected one row per handle "
                              f"({len(self._handles)}, 3)")
-        if kwargs.get("initial") is not None:
-            kwargs["initial"] = self._rows(kwargs["initial"], "initial")
-        return _WeldedResult(super().solve(w.handle_targets(self._handles, T), *args, **kwargs), w)
+        if options.get("initial") is not None:
+            options["initial"] = self._rows(options["initial"], "initial")
+        return _WeldedResult(super().solve(w.handle_targets(self._handles, T), **options), w)
 
     def energy(self, X):
         return super().energy(X if self._welding is None else self._rows(X, "X"))

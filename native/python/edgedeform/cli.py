@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-from . import ACCELERATIONS, SOLVE_DEFAULTS, Deformer, build_info, mesh_files
+from . import ACCELERATIONS, SOLVE_DEFAULTS, SOLVE_INT_RANGES, Deformer, build_info, mesh_files
 
 EXIT_BAD_INPUT = 1
 
@@ -67,6 +67,22 @@ def _version():
             f"{sys.version.split()[0]})")
 
 
+def _int_in_range(option):
+    """An argparse type: an integer inside the core's range for solve's `option`, else a
+    usage error that names the command-line option and the range."""
+    low, high = SOLVE_INT_RANGES[option]
+
+    def parse(text):
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"must be an integer in [{low}, {high}], got {text}")
+        return value
+    return parse
+
+
 def _parser(prog=None):
     """The parser; `.commands` holds each subcommand's own parser (docs/api.md's tables are
     made from them). The solve options' defaults and choices are the core's (SOLVE_DEFAULTS)."""
@@ -92,7 +108,8 @@ def _parser(prog=None):
                      help="global stiffness in [0,1] (default: the Deformer's, 0.5 everywhere)")
     lam.add_argument("--stiffness-file", default=None, metavar="FILE",
                      help="one stiffness value per vertex, whitespace separated")
-    d.add_argument("--iterations", type=int, default=solve["max_iterations"], metavar="N",
+    d.add_argument("--iterations", type=_int_in_range("max_iterations"), default=solve["max_iterations"],
+                   metavar="N",
                    help="most local/global iterations (default %(default)s)")
     d.add_argument("--tolerance", type=float, default=solve["tolerance"], metavar="T",
                    help="stop when the estimated largest vertex distance to the fixed point is "
@@ -100,7 +117,8 @@ def _parser(prog=None):
     d.add_argument("--acceleration", choices=ACCELERATIONS, default=solve["acceleration"],
                    help="how the fixed point is reached (default %(default)s); every method reaches "
                         "the same shapes (help(edgedeform.Deformer.solve) says how each does)")
-    d.add_argument("--anderson-window", type=int, default=solve["anderson_window"], metavar="M",
+    d.add_argument("--anderson-window", type=_int_in_range("anderson_window"), default=solve["anderson_window"],
+                   metavar="M",
                    help="how many past iterates Anderson acceleration combines (default %(default)s)")
     d.add_argument("--roi-radius", type=float, default=None, metavar="R",
                    help="instead of the constraints' roi: the vertices within R (mesh units) of a "
@@ -192,8 +210,6 @@ def load_stiffness(args, n):
 
 
 def deform(args):
-    if args.iterations < 1:
-        raise InputError("--iterations must be at least 1")
     if not math.isfinite(args.tolerance) or args.tolerance < 0:
         raise InputError("--tolerance must be a finite number >= 0")
     mesh_files.check_extension(args.out)  # fail before any work if OUT has an unknown extension

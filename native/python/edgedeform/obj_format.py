@@ -8,21 +8,25 @@ objects, smoothing groups, `mtllib`/`usemtl`, comments), except:
   area-weighted normals of the faces whose corners use it, so corners that shared a normal
   (smooth) still do, and split normals (hard edges) stay split. A `vn` no face uses is kept.
 Negative (relative) indices are resolved. The file is handled as Latin-1 text, which maps
-every byte to one character, so unknown bytes are written back unchanged.
+every byte to one character, so unknown bytes are written back unchanged. Every `v`, `vn`
+and face corner is checked as it is read; a bad one raises MeshFormatError naming its line.
 """
 
 import numpy as np
 
+from .format_error import at_line, parse_number
 from .number_text import floats_text
 from .polygons import accumulate_unit, face_normals
+from .text_lines import iter_lines, line_ending, split_lines
 
 
 class ObjFile:
-    def __init__(self, lines, v_lines, v_extra, vn_lines, sizes, corners, corner_normals, has):
+    def __init__(self, lines, v_lines, v_extra, vn_lines, normals, sizes, corners, corner_normals, has):
         self.lines = lines                # the file, one string per line (with its newline)
         self.v_lines = v_lines            # line number of each vertex
         self.v_extra = v_extra            # text after x y z on each v line ("" if none)
         self.vn_lines = vn_lines          # line number of each normal
+        self.normals = normals            # (len(vn_lines), 3) as read
         self.sizes, self.corners = sizes, corners
         self.corner_normals = corner_normals  # vn index per corner, -1 where none
         self.has = has                    # which optional OBJ data the file holds
@@ -31,64 +35,59 @@ class ObjFile:
         """The file's text with new positions. Returns (text, notes)."""
         lines = list(self.lines)
         for i, (line_no, extra) in enumerate(zip(self.v_lines, self.v_extra)):
-            lines[line_no] = f"v {floats_text(positions[i])}{extra}{_ending(lines[line_no])}"
+            lines[line_no] = f"v {floats_text(positions[i])}{extra}{line_ending(lines[line_no])}"
         notes = []
         used = self.corner_normals >= 0
         if len(self.vn_lines) and used.any():
             N = face_normals(positions, self.sizes, self.corners)
             face = np.repeat(np.arange(len(self.sizes)), self.sizes)
-            old = np.array([[float(t) for t in lines[k].split()[1:4]] for k in self.vn_lines])
-            new = accumulate_unit(self.corner_normals[used], N[face[used]], len(self.vn_lines), old)
+            new = accumulate_unit(self.corner_normals[used], N[face[used]], len(self.vn_lines), self.normals)
             for j, line_no in enumerate(self.vn_lines):
-                lines[line_no] = f"vn {floats_text(new[j])}{_ending(lines[line_no])}"
+                lines[line_no] = f"vn {floats_text(new[j])}{line_ending(lines[line_no])}"
             notes.append("normals (vn) recomputed from the deformed faces")
         return "".join(lines), notes
 
 
-def _ending(line):
-    return line[len(line.rstrip("\r\n")):] or "\n"
-
-
 def _index(token, count, what, line_no):
-    k = int(token)
+    k = parse_number(token, int, line_no, f"a {what} index")
     if k < 0:
         k += count  # relative: -1 is the last one defined so far
     else:
         k -= 1
     if not 0 <= k < count:
-        raise ValueError(f"line {line_no + 1}: {what} index {token} out of range (1..{count} so far)")
+        raise at_line(line_no, f"{what} index {token} out of range (1..{count} so far)")
     return k
 
 
 def read(text):
-    """Parse OBJ text. Raises ValueError naming the line for malformed input."""
-    lines = text.splitlines(keepends=True)
-    v_lines, v_extra, coords, vn_lines = [], [], [], []
+    """Parse OBJ text. Raises MeshFormatError naming the line for malformed input, having
+    read the file only up to that line."""
+    v_lines, v_extra, coords, vn_lines, normals = [], [], [], [], []
     sizes, corners, corner_normals = [], [], []
     has = set()
     n_vt = 0
-    for line_no, line in enumerate(lines):
+    for line_no, (line, _) in enumerate(iter_lines(text)):
         tokens = line.split("#", 1)[0].split()
         if not tokens:
             continue
         key = tokens[0]
         if key == "v":
             if len(tokens) < 4:
-                raise ValueError(f"line {line_no + 1}: a vertex needs 3 coordinates")
-            try:
-                coords.append([float(t) for t in tokens[1:4]])
-            except ValueError:
-                raise ValueError(f"line {line_no + 1}: '{line.strip()}' is not a vertex") from None
+                raise at_line(line_no, "a vertex needs 3 coordinates")
+            coords.append([parse_number(t, float, line_no, "a coordinate") for t in tokens[1:4]])
             v_lines.append(line_no)
             v_extra.append("".join(" " + t for t in tokens[4:]))
         elif key == "vn":
+            if len(tokens) < 4:
+                raise at_line(line_no, "a normal (vn) needs 3 numbers")
+            normals.append([parse_number(t, float, line_no, "a normal's component") for t in tokens[1:4]])
             vn_lines.append(line_no)
         elif key == "vt":
             n_vt += 1
             has.add("texture coordinates (vt)")
         elif key == "f":
             if len(tokens) < 4:
-                raise ValueError(f"line {line_no + 1}: a face needs at least 3 corners")
+                raise at_line(line_no, "a face needs at least 3 corners")
             for t in tokens[1:]:
                 parts = t.split("/")
                 corners.append(_index(parts[0], len(v_lines), "vertex", line_no))
@@ -102,7 +101,9 @@ def read(text):
             has.add("materials (mtllib, usemtl)")
     if vn_lines:
         has.add("normals (vn)")
-    return ObjFile(lines, v_lines, v_extra, vn_lines, np.array(sizes, dtype=np.int64),
+    lines = split_lines(text)   # kept for the rewrite, once the file is known to be sound
+    return ObjFile(lines, v_lines, v_extra, vn_lines, np.array(normals, dtype=np.float64).reshape(-1, 3),
+                   np.array(sizes, dtype=np.int64),
                    np.array(corners, dtype=np.int64), np.array(corner_normals, dtype=np.int64),
                    has), np.array(coords, dtype=np.float64).reshape(-1, 3)
 

@@ -6,12 +6,19 @@ faces of any corner count with their own properties, edges, anything else) and t
 format are kept byte for byte, except the vertex x, y, z, which get the new positions in
 the file's own type (float32 files stay float32), and nx, ny, nz, when present, which are
 recomputed from the deformed faces (area-weighted vertex normals).
+
+Reading trusts no declared count: the header is read line by line, element row counts and
+list lengths must be non-negative and fit the bytes (binary) or numbers (ASCII) that are
+there before anything of their size is made, and a bad file raises MeshFormatError naming
+the line (ASCII) or the row.
 """
 
 import numpy as np
 
+from .format_error import MeshFormatError, at_line, parse_index, parse_number, require_count
 from .number_text import float_text
 from .polygons import vertex_normals
+from .text_lines import split_lines
 
 TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2",
          "ushort": "u2", "uint16": "u2", "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
@@ -93,59 +100,119 @@ def _find(elements, name):
     for k, e in enumerate(elements):
         if e.name == name:
             return k
-    raise ValueError(f"no '{name}' element")
+    raise MeshFormatError(f"the header declares no '{name}' element")
+
+
+HEADER_LIMIT = 256 << 10   # bytes: real headers are a few hundred; a longer one is not a header
+
+
+def _header_lines(data, ends):
+    """Yields (0-based line number, text) of each header line between 'ply' and 'end_header',
+    one at a time, and sets ends[0] to the header's length in bytes through end_header's
+    newline. Line by line: 'end_header' inside a comment does not end it."""
+    pos, line_no = 0, 0
+    while True:
+        end = data.find(b"\n", pos, HEADER_LIMIT)
+        if end < 0 and len(data) > HEADER_LIMIT:
+            raise MeshFormatError(f"no 'end_header' line in the first {HEADER_LIMIT} bytes")
+        stop = len(data) if end < 0 else end + 1
+        text = data[pos:stop].decode("latin-1").rstrip("\r\n")
+        if line_no == 0:
+            if text.strip() != "ply":
+                raise at_line(0, "not a PLY file (the first line is not 'ply')")
+        elif text.split() == ["end_header"]:
+            ends[0] = stop
+            return
+        else:
+            yield line_no, text
+        if end < 0:
+            raise MeshFormatError("the header has no 'end_header' line")
+        pos, line_no = stop, line_no + 1
 
 
 def _parse_header(data):
-    end = data.find(b"end_header")
-    if not data.startswith(b"ply") or end < 0:
-        raise ValueError("not a PLY file (no 'ply' ... 'end_header')")
-    newline = data.find(b"\n", end)
-    header = data[:newline + 1] if newline >= 0 else data + b"\n"
-    fmt, elements = None, []
-    for raw in header.decode("latin-1").splitlines()[1:]:
+    """(header bytes, format, elements, the body's first line number)."""
+    fmt, elements, ends, line_no = None, [], [None], 0
+    for line_no, raw in _header_lines(data, ends):
         t = raw.split()
-        if not t or t[0] in ("comment", "obj_info", "end_header"):
+        if not t or t[0] in ("comment", "obj_info"):
             continue
-        if t[0] == "format" and len(t) >= 2:
+        if t[0] == "format" and fmt is not None:
+            raise at_line(line_no, "a second 'format' line")
+        if t[0] == "element" and len(t) == 3 and t[1] in (e.name for e in elements):
+            raise at_line(line_no, f"element '{t[1]}' declared twice")
+        if t[0] == "format" and len(t) == 3:
             fmt = t[1]
         elif t[0] == "element" and len(t) == 3:
-            elements.append(Element(t[1], int(t[2])))
-        elif t[0] == "property" and elements and len(t) == 3 and t[1] in TYPES:
+            elements.append(Element(t[1], require_count(t[2], line_no, f"'{t[1]}' rows")))
+        elif t[0] == "property" and not elements:
+            raise at_line(line_no, "a property before any element")
+        elif t[0] == "property" and t[-1] in elements[-1].names():
+            raise at_line(line_no, f"property '{t[-1]}' declared twice in element '{elements[-1].name}'")
+        elif t[0] == "property" and len(t) == 3 and t[1] in TYPES:
             elements[-1].properties.append((t[2], TYPES[t[1]]))
-        elif t[0] == "property" and elements and len(t) == 5 and t[1] == "list" \
-                and t[2] in TYPES and t[3] in TYPES:
+        elif t[0] == "property" and len(t) == 5 and t[1] == "list" and t[2] in TYPES and t[3] in TYPES:
+            if TYPES[t[2]][0] == "f" or (t[4] in FACE_LISTS and TYPES[t[3]][0] == "f"):
+                raise at_line(line_no, f"list '{t[4]}': its length and indices must be integer types")
             elements[-1].properties.append((t[4], (TYPES[t[2]], TYPES[t[3]])))
         else:
-            raise ValueError(f"header line '{raw.strip()}' is not understood")
+            raise at_line(line_no, f"header line '{raw.strip()}' is not understood")
     if fmt not in ("ascii", "binary_little_endian", "binary_big_endian"):
-        raise ValueError(f"unknown PLY format '{fmt}'")
-    return header, fmt, elements
+        raise MeshFormatError(f"unknown PLY format '{fmt}'" if fmt else "the header has no 'format' line")
+    for e in elements:
+        if not e.properties:  # rows of no bytes: a count that nothing in the file can check
+            raise MeshFormatError(f"element '{e.name}' declares no properties")
+    return data[:ends[0]], fmt, elements, line_no + 2
+
+
+def _too_short(element, rows, need, left):
+    return MeshFormatError(f"element '{element.name}' declares {rows} rows, which need at least {need} bytes; "
+                           f"the file has {left} bytes left")
+
+
+def _list_length(data, pos, element, name, row, count_type, item_type):
+    """The length of one binary list, checked against the bytes that are left."""
+    k = int(np.frombuffer(data, count_type, 1, pos)[0])
+    if k < 0:
+        raise MeshFormatError(f"{element.name} {row}: list '{name}' has a negative length ({k})")
+    left = len(data) - pos - count_type.itemsize
+    if k * item_type.itemsize > left:
+        raise MeshFormatError(f"{element.name} {row}: list '{name}' declares {k} entries "
+                              f"({k * item_type.itemsize} bytes); the file has {left} bytes left")
+    return k
 
 
 def _binary_element(data, offset, element, order):
     """(structured rows or raw bytes, the face lists (sizes, corners) if any, next offset)."""
+    left = len(data) - offset
     if element.is_scalar():
         dtype = np.dtype([(n, order + t) for n, t in element.properties])
-        end = offset + element.count * dtype.itemsize
-        if end > len(data):
-            raise ValueError(f"the file ends inside element '{element.name}'")
-        return np.frombuffer(data, dtype, element.count, offset), None, end
+        if element.count * dtype.itemsize > left:
+            raise _too_short(element, element.count, element.count * dtype.itemsize, left)
+        return np.frombuffer(data, dtype, element.count, offset), None, offset + element.count * dtype.itemsize
+    smallest_row = sum(np.dtype(t if isinstance(t, str) else t[0]).itemsize for _, t in element.properties)
+    if element.count * smallest_row > left:
+        raise _too_short(element, element.count, element.count * smallest_row, left)
     # Lists: one row at a time (fast path first: every list of the same length).
     fast = _uniform_lists(data, offset, element, order)
     if fast is not None:
         return fast
     sizes, corners = [], []
     pos = offset
-    for _ in range(element.count):
+    for row in range(element.count):
         for name, t in element.properties:
             if isinstance(t, str):
                 pos += np.dtype(t).itemsize
+                if pos > len(data):
+                    raise _too_short(element, element.count, pos - offset, left)
                 continue
-            count = int(np.frombuffer(data, order + t[0], 1, pos)[0])
-            pos += np.dtype(t[0]).itemsize
-            items = np.frombuffer(data, order + t[1], count, pos)
-            pos += count * np.dtype(t[1]).itemsize
+            count_type, item_type = np.dtype(order + t[0]), np.dtype(order + t[1])
+            if pos + count_type.itemsize > len(data):
+                raise _too_short(element, element.count, pos + count_type.itemsize - offset, left)
+            count = _list_length(data, pos, element, name, row, count_type, item_type)
+            pos += count_type.itemsize
+            items = np.frombuffer(data, item_type, count, pos)
+            pos += count * item_type.itemsize
             if name in FACE_LISTS:
                 sizes.append(count)
                 corners.append(items.astype(np.int64))
@@ -154,6 +221,7 @@ def _binary_element(data, offset, element, order):
 
 
 def _uniform_lists(data, offset, element, order):
+    """The element's rows and face lists when every list has the first row's length, else None."""
     first = offset
     fields = []
     for name, t in element.properties:
@@ -161,18 +229,20 @@ def _uniform_lists(data, offset, element, order):
             fields.append((name, order + t))
             first += np.dtype(t).itemsize
         else:
-            if first + np.dtype(t[0]).itemsize > len(data):
+            count_type, item_type = np.dtype(order + t[0]), np.dtype(order + t[1])
+            if first + count_type.itemsize > len(data):
                 return None
-            k = int(np.frombuffer(data, order + t[0], 1, first)[0])
-            fields += [(name + "#count", order + t[0]), (name, order + t[1], (k,))]
-            first += np.dtype(t[0]).itemsize + k * np.dtype(t[1]).itemsize
+            k = _list_length(data, first, element, name, 0, count_type, item_type)
+            # "NAME count": PLY names have no spaces, so no property can take this field's name
+            fields += [(name + " count", count_type), (name, item_type, (k,))]
+            first += count_type.itemsize + k * item_type.itemsize
     dtype = np.dtype(fields)
     end = offset + element.count * dtype.itemsize
     if end > len(data):
         return None
     rows = np.frombuffer(data, dtype, element.count, offset)
     for name, t in element.properties:
-        if not isinstance(t, str) and np.any(rows[name + "#count"] != dtype[name].shape[0]):
+        if not isinstance(t, str) and np.any(rows[name + " count"] != dtype[name].shape[0]):
             return None
     lists = None
     for name in FACE_LISTS:
@@ -182,63 +252,93 @@ def _uniform_lists(data, offset, element, order):
     return data[offset:end], lists, end
 
 
-def _ascii_elements(body, elements):
-    lines = body.decode("latin-1").splitlines(keepends=True)
-    lines = [ln for ln in lines if ln.strip()]
+def _ascii_face(tokens, element, line_no):
+    """(corner count, corners) of one ASCII face line, every list length checked against the
+    numbers on the line."""
+    c, size, corners = 0, None, None
+    for name, ptype in element.properties:
+        if c >= len(tokens):
+            raise at_line(line_no, f"the line ends before property '{name}'")
+        if isinstance(ptype, str):
+            c += 1
+            continue
+        k = parse_number(tokens[c], int, line_no, f"the length of list '{name}'")
+        if k < 0:
+            raise at_line(line_no, f"list '{name}' has a negative length ({k})")
+        if k > len(tokens) - c - 1:
+            raise at_line(line_no, f"list '{name}' declares {k} entries, the line has {len(tokens) - c - 1} "
+                                   f"numbers after it")
+        if name in FACE_LISTS:
+            size = k
+            corners = [parse_index(x, line_no) for x in tokens[c + 1:c + 1 + k]]
+        c += 1 + k
+    if c != len(tokens):
+        raise at_line(line_no, f"{len(tokens)} numbers, the face's properties take {c}")
+    if size < 3:
+        raise at_line(line_no, f"a face needs at least 3 corners, this one has {size}")
+    return size, corners
+
+
+def _ascii_elements(body, elements, first_line):
+    """Each element's lines, the vertex rows (token lists) and the face lists. `first_line`:
+    the body's first line in the file (0-based), for the messages."""
+    left = body.count(b"\n") + body.count(b"\r") + 1   # at most this many lines: checked before splitting
+    for e in elements:
+        if e.count > left:
+            raise MeshFormatError(f"element '{e.name}' declares {e.count} rows, the file has at most {left} lines "
+                                  f"left for it")
+        left -= e.count
+    lines = split_lines(body.decode("latin-1"))
+    rows_at = [k for k, ln in enumerate(lines) if ln.strip()]
     chunks, vertex_rows, lists, pos = [], None, None, 0
     for e in elements:
-        rows = lines[pos:pos + e.count]
-        if len(rows) < e.count:
-            raise ValueError(f"the file ends inside element '{e.name}'")
+        if pos + e.count > len(rows_at):
+            raise MeshFormatError(f"element '{e.name}' declares {e.count} rows, the file has "
+                                  f"{len(rows_at) - pos} lines left for it")
+        at = rows_at[pos:pos + e.count]
         pos += e.count
-        chunks.append(rows)
+        chunks.append([lines[k] for k in at])
         if e.name == "vertex":
             if not e.is_scalar():
-                raise ValueError("vertex elements with list properties are not supported")
-            vertex_rows = [r.split() for r in rows]
-            if any(len(t) != len(e.properties) for t in vertex_rows):
-                raise ValueError("a vertex line has the wrong number of values")
+                raise MeshFormatError("vertex elements with list properties are not supported")
+            vertex_rows = [lines[k].split() for k in at]
+            numeric = [e.names().index(n) for n in ("x", "y", "z") + NORMALS if n in e.names()]
+            for k, t in zip(at, vertex_rows):
+                if len(t) != len(e.properties):
+                    raise at_line(first_line + k, f"a vertex line has {len(t)} values, the header declares "
+                                                  f"{len(e.properties)}")
+                for c in numeric:
+                    parse_number(t[c], float, first_line + k, f"a number ({e.properties[c][0]})")
         elif e.name == "face":
-            sizes, corners = [], []
-            for r in rows:
-                t = r.split()
-                c = 0
-                for name, ptype in e.properties:
-                    if isinstance(ptype, str):
-                        c += 1
-                        continue
-                    k = int(t[c])
-                    if name in FACE_LISTS:
-                        sizes.append(k)
-                        corners += [int(x) for x in t[c + 1:c + 1 + k]]
-                    c += 1 + k
-            lists = (np.array(sizes, dtype=np.int64), np.array(corners, dtype=np.int64))
+            faces = [_ascii_face(lines[k].split(), e, first_line + k) for k in at]
+            lists = (np.array([f[0] for f in faces], dtype=np.int64),
+                     np.array([c for f in faces for c in f[1]], dtype=np.int64))
     return chunks, vertex_rows, lists
 
 
 def read(data):
-    header, fmt, elements = _parse_header(data)
+    """Parse PLY bytes. Every declared count (rows, list lengths) is checked against the
+    bytes that are there before anything of its size is made; MeshFormatError otherwise."""
+    header, fmt, elements, body_line = _parse_header(data)
     vertex = elements[_find(elements, "vertex")]
     if not all(n in vertex.names() for n in "xyz"):
-        raise ValueError("the vertex element has no x, y, z")
+        raise MeshFormatError("the vertex element has no x, y, z")
+    if not vertex.is_scalar():
+        raise MeshFormatError("vertex elements with list properties are not supported")
     face = _find(elements, "face")
-    if not any(n in FACE_LISTS for n in elements[face].names()):
-        raise ValueError("the face element has no vertex_indices list")
+    if not any(n in FACE_LISTS and not isinstance(t, str) for n, t in elements[face].properties):
+        raise MeshFormatError("the face element has no vertex_indices list")
     body = data[len(header):]
     if fmt == "ascii":
-        try:
-            chunks, vertex_rows, lists = _ascii_elements(body, elements)
-            positions = np.array([[float(t[vertex.names().index(n)]) for n in "xyz"] for t in vertex_rows])
-        except (ValueError, IndexError) as exc:
-            raise ValueError(f"cannot parse the ASCII body ({exc})") from None
+        chunks, vertex_rows, lists = _ascii_elements(body, elements, body_line)
+        columns = [vertex.names().index(n) for n in "xyz"]
+        positions = np.array([[float(t[c]) for c in columns] for t in vertex_rows], dtype=np.float64)
     else:
         order = "<" if fmt == "binary_little_endian" else ">"
         chunks, pos, lists, vertex_rows = [], 0, None, None
         for e in elements:
             chunk, element_lists, pos = _binary_element(body, pos, e, order)
             if e.name == "vertex":
-                if not e.is_scalar():
-                    raise ValueError("vertex elements with list properties are not supported")
                 vertex_rows = chunk
                 chunk = chunk.tobytes()
             elif isinstance(chunk, np.ndarray):
@@ -248,9 +348,11 @@ def read(data):
             chunks.append(chunk)
         chunks.append(body[pos:])  # whatever follows the last element, kept
         positions = np.stack([vertex_rows[n].astype(np.float64) for n in "xyz"], axis=1)
+        sizes = lists[0]
+        if np.any(sizes < 3):
+            row = int(np.argmax(sizes < 3))
+            raise MeshFormatError(f"face {row} has {sizes[row]} corners, a face needs at least 3")
     sizes, corners = lists
-    if np.any(sizes < 3):
-        raise ValueError("a face has fewer than 3 corners")
     return PlyFile(header, fmt, elements, chunks, vertex_rows, sizes, corners), positions.reshape(-1, 3)
 
 

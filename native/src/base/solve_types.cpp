@@ -22,6 +22,16 @@ Acceleration parse_acceleration(const std::string& name) {
   throw std::invalid_argument("acceleration must be \"auto\", \"lbfgs\", \"anderson\" or \"none\", got \"" + name + "\"");
 }
 
+std::string out_of_range_message(const IntRange& range, const std::string& value) {
+  return std::string(range.name) + " must be an integer in [" + std::to_string(range.low) + ", " +
+         std::to_string(range.high) + "], got " + value;
+}
+
+void check_in_range(const IntRange& range, int value) {
+  if (value < range.low || value > range.high)
+    throw std::invalid_argument(out_of_range_message(range, std::to_string(value)));
+}
+
 std::string not_converged_warning(int max_iterations, double distance_estimate, double tolerance,
                                   const std::string& estimate_is, const std::string& unknown_because) {
   std::ostringstream msg;

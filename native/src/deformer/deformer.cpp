@@ -34,10 +34,8 @@ void check_solve_arguments(const ConstrainedSystem& sys, int n, const RowMatrixX
                                 std::to_string(sys.handles.size()) + ")");
   check_finite(targets, "targets");
   check_distance(targets, range.center, range.limit, "targets");
-  if (o.anderson_window < 1 || o.anderson_window > 50)
-    throw std::invalid_argument("anderson_window must be in [1, 50], got " + std::to_string(o.anderson_window));
-  if (o.max_iterations < 1)
-    throw std::invalid_argument("max_iterations must be at least 1, got " + std::to_string(o.max_iterations));
+  check_in_range(kAndersonWindowRange, o.anderson_window);
+  check_in_range(kMaxIterationsRange, o.max_iterations);
   if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance))
     throw std::invalid_argument("tolerance must be a finite number >= 0");
   if (o.initial) {

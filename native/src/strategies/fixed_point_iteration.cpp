@@ -51,8 +51,10 @@ void plain_anderson_solve(FixedPointProblem& problem, const PlainAndersonSetting
   const bool accelerate = settings.accelerate;
   const bool descent = settings.descent;
   const Eigen::Index dim = y.size();
-  result.energies.reserve(static_cast<size_t>(settings.max_iterations));
-  result.residuals.reserve(static_cast<size_t>(settings.max_iterations));
+  // Room for the usual solve, not for max_iterations: that may be 2^31 - 1 (16 GiB each).
+  const auto expected = static_cast<size_t>(std::min(settings.max_iterations, 4096));
+  result.energies.reserve(expected);
+  result.residuals.reserve(expected);
   result.distance_estimate = std::numeric_limits<double>::infinity();
 
   for (int k = 0; k < settings.max_iterations; ++k) {

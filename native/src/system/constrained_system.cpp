@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <deque>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 
+#include "edgedeform/errors.h"
 #include "edgedeform/mesh_checks.h"
 #include "edgedeform/region_by_distance.h"
 
@@ -105,12 +107,30 @@ std::vector<VertexRole> checked_roles(int n, const std::vector<bool>& referenced
   return role;
 }
 
+// Whether any vertex would be free with an unbounded radius (every vertex in space, or every
+// one reachable over the surface from the radius's seeds).
+bool some_radius_frees_a_vertex(int n, const std::vector<bool>& referenced, const RowMatrixX3d& rest,
+                                const VertexNeighbours& neighbours, ConstraintSets sets) {
+  sets.roi_radius = std::numeric_limits<double>::max();
+  std::vector<std::string> warnings;
+  std::vector<VertexRole> role = checked_roles(n, referenced, rest, neighbours, sets, warnings);
+  int n_components = 0;
+  pin_unanchored_components(neighbours, role, n_components);
+  return std::find(role.begin(), role.end(), kFree) != role.end();
+}
+
 // An explicit roi may leave nothing free (the solve then only places the handles); a radius
-// that does is almost surely too small for the mesh, so it is an error that says so.
-std::string no_free_vertex_message(const ConstraintSets& sets) {
+// that does is almost surely too small for the mesh, so it is an error that says so, or
+// says that no radius would do when every vertex it could reach is held.
+std::string no_free_vertex_message(const ConstraintSets& sets, bool a_larger_radius_helps) {
   std::ostringstream msg;
   msg << "no free vertex within roi_radius " << *sets.roi_radius << (sets.roi_connected ? " over the surface" : "")
-      << (sets.roi_from ? " of roi_from" : " of the handles") << ": increase the radius";
+      << (sets.roi_from ? " of roi_from" : " of the handles") << ": ";
+  if (a_larger_radius_helps)
+    msg << "increase the radius";
+  else
+    msg << "every vertex " << (sets.roi_connected ? "connected to them" : "of the mesh")
+        << " is a handle or static (or touches no face, or no handle or static vertex), so no radius frees one";
   return msg.str();
 }
 
@@ -144,7 +164,8 @@ VertexRoles vertex_roles(const RowMatrixX3d& rest, const VertexNeighbours& neigh
   int n_components = 0;
   const int pinned = pin_unanchored_components(neighbours, out.role, n_components);
   if (sets.roi_radius && std::find(out.role.begin(), out.role.end(), kFree) == out.role.end())
-    throw std::invalid_argument(no_free_vertex_message(sets));
+    throw NoFreeVertexError(
+        no_free_vertex_message(sets, some_radius_frees_a_vertex(n, referenced, rest, neighbours, sets)));
   if (pinned > 0)
     out.warnings.push_back(std::to_string(pinned) + " free vertices in " + std::to_string(n_components) +
                            " component(s) touch no handle or static vertex and stay at rest");
