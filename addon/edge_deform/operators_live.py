@@ -168,7 +168,8 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                 return
             targets = self.solver.targets()
             r = self.settle.tick(lambda n, check: self.solve(targets, n, check),
-                                 moving=self.settle.iterations == 0)
+                                 moving=self.settle.iterations == 0,
+                                 system=self.solver.binding.system)
             self.solver.write(r.positions)
         except Exception as exc:  # noqa: BLE001 - shown, and retried on the next change
             self.refuse(exc)
@@ -284,7 +285,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.solver = solver
         self.seen_settings = self.watched_settings(self.ob)
         self.seen_controllers = None
-        self.settle.new_graph()          # the new graph has its own speed
+        self.settle.changed()
         self.go(LiveEvent.SWITCH_ENDED)
         self.show("new graph ready, solving…")
 
