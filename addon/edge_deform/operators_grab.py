@@ -2,13 +2,14 @@
 
 Like G in Edit Mode: the motion follows the pointer in screen pixels from where it was
 when the tool started (started from the panel's button, from where the pointer first
-enters the viewport: nothing moves before), X/Y/Z constrain the motion to a global axis
-(press again to free it), Enter/click confirms, Esc/right click restores. The mesh is shown
-in Object Mode while dragging (bpy can only write whole arrays there) and Edit Mode comes
-back at the end, showing the dragged shape: with Output Shape Key the output key becomes
-the active key, the one Edit Mode shows and edits. The drag starts from the shape shown
-(shown_shape.py: after Bake, the frame on screen). Other handle groups stay where they are
-shown; static vertices and vertices outside the region stay at rest. On confirm, a handle
+enters the viewport), nothing moves before the pointer does, X/Y/Z constrain the motion to
+a global axis (press again to free it), Enter/click confirms, Esc/right click restores.
+The mesh is shown in Object Mode while dragging (bpy can only write whole arrays there) and
+Edit Mode comes back at the end, showing the dragged shape: with Output Shape Key the
+output key becomes the active key, the one Edit Mode shows and edits. The drag starts from
+the shape shown (shown_shape.py: after Bake, the frame on screen). Other handle groups stay
+where they are shown; static vertices and vertices outside the region stay at rest. No
+handle is needed: the dragged vertices are the handle (record 0068). On confirm, a handle
 whose vertices were dragged holds them where they are (handle_holds.py); how many dragged
 vertices no handle holds is noted, for Live to say before a solve moves them.
 
@@ -98,10 +99,12 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.depth = ob.matrix_world @ Vector(self.start.mean(axis=0))
         self.region, self.rv3d = view_region(context)
         self.mouse = self.in_region(event)
-        # From the panel's button the pointer is over the sidebar, which lies over the
-        # view: the drag starts where the pointer reaches the view itself.
+        # Nothing is solved before the pointer moves (as G moves nothing before): a shape
+        # that had not settled (a baked frame) would move under a still pointer. From the
+        # panel's button the pointer is over the sidebar, which lies over the view: the
+        # drag counts from where the pointer reaches the view itself.
         self.origin = self.mouse if over_the_view(context.area, event) else None
-        self.state = Grab.DRAGGING if self.origin is not None else Grab.WAITING
+        self.state = Grab.WAITING
         self.axis = None
         self.first = True           # the first solve starts from what is shown
         self.delta = np.zeros(3)
@@ -205,12 +208,19 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         targets = np.concatenate([self.start + self.delta, self.pinned])
 
         def solve(n, check_claims):
-            initial = self.current if self.first else None
-            self.first = False
-            return self.solver.solve(targets, n, s.tolerance, warm=True, initial=initial,
+            if self.first:
+                # From the shape shown, first a few iterations where it holds the dragged
+                # vertices, then on to the pointer (warm), as when Grab solved before the
+                # pointer moved: a cold start straight at a far target can stall (the
+                # plane, a 0.27 drag: 2,000 iterations unconverged; this way 1,660, settled).
+                self.first = False
+                self.solver.solve(self.current[self.held], settle.LEAST_ITERATIONS,
+                                  s.tolerance, warm=True, initial=self.current,
+                                  check_claims=False)
+            return self.solver.solve(targets, n, s.tolerance, warm=True,
                                      check_claims=check_claims)
         try:
-            r = self.settle.tick(solve, moving)
+            r = self.settle.tick(solve, moving, system=self.solver.binding.system)
             self.solver.write(r.positions)
             self.written = r.positions
         except Exception as exc:  # noqa: BLE001 - shown; the next move retries
@@ -263,10 +273,13 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             self.mouse = self.in_region(event)
             if self.state == Grab.WAITING:
                 if over_the_view(self.area, event):
-                    self.origin = self.mouse
-                    self.go(GrabEvent.ENTERED)
+                    if self.origin is None:
+                        self.origin = self.mouse
+                    elif self.mouse != self.origin:
+                        self.go(GrabEvent.STARTED)
                     self.show()
             else:
+                self.refused = None     # (the refusal was reported; the drag goes on)
                 self.go(GrabEvent.MOVED)
         elif event.type == 'TIMER':
             if self.state in (Grab.DRAGGING, Grab.SETTLING):

@@ -138,9 +138,13 @@ class Binding:
         t0, factored = time.perf_counter(), False
         ckey = (_digest(inputs.handles, inputs.static, inputs.roi), inputs.roi_radius,
                 inputs.roi_connected)
-        if self._constraints != Constraints.SETTINGS or ckey != self._constraint_key:
+        # No handles (Grab Deform on a mesh without any: its selection is the handle, set
+        # by hold_grab next): there are no settings' constraints to set.
+        if inputs.handles.size and (self._constraints != Constraints.SETTINGS
+                                    or ckey != self._constraint_key):
             factored = True
             self._constraints, self._constraint_key = Constraints.NONE, None
+            self._system = next(_systems)
             self._deformer.set_constraints(handles=inputs.handles, static=inputs.static,
                                            **_region(inputs.roi, inputs.roi_radius,
                                                      inputs.roi_connected))

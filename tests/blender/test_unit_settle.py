@@ -316,9 +316,9 @@ def _legal(go, state, event):
 def test_grab_transitions():
     G, E = states.Grab, states.GrabEvent
     go = states.grab_next
-    assert go(G.WAITING, E.ENTERED) == G.DRAGGING
+    assert go(G.WAITING, E.STARTED) == G.DRAGGING
     with pytest.raises(states.IllegalTransition):
-        go(G.WAITING, E.MOVED)            # before the pointer is in the view: nothing
+        go(G.WAITING, E.MOVED)            # before the pointer moved in the view: nothing
     assert go(G.DRAGGING, E.ITERATED) == G.SETTLING
     assert go(G.SETTLING, E.SETTLED) == G.AT_REST
     assert go(G.SETTLING, E.MOVED) == G.DRAGGING
