@@ -82,7 +82,10 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             self.held = np.concatenate([moving, pinned])
             self.moving = moving        # (hold measures the radius from them)
             self.group_region = None
-            self.hold(solver, ob)
+            try:
+                self.hold(solver, ob)
+            except proportional.NothingFree as exc:
+                raise self.why_nothing_is_free(exc, solver) from None
         except Exception:
             if solver is not None:
                 solver.release_grab()   # the settings' constraints return on the next sync
@@ -112,7 +115,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.stats = ""
         self.refused = None         # why the last radius change was refused, for the header
         self.start_modal(context, ob)
-        self.circle = overlay.RadiusCircle(self.area, self.circle_where)
+        self.circles = overlay.RadiusCircles(self.area, self.circles_where)
         self.status_drawn = None    # the key hints Blender last drew in the status bar
         compat.status_bar(self.workspace, self.draw_status)
         self.show()
@@ -139,6 +142,18 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         solver.hold_grab(self.held, solver.inputs.static, roi, radius, connected,
                          roi_from=self.moving if radius is not None else None)
 
+    def why_nothing_is_free(self, exc, solver):
+        """At the start (the keys do nothing yet): when every vertex within the radius of
+        the selection is held, by the rest of a handle it is part of or by Static, say so
+        rather than blame the radius."""
+        inputs = solver.inputs
+        pinned = np.setdiff1d(self.held, self.moving)
+        if not proportional.held_within(solver.binding.X, self.moving, exc.radius,
+                                        np.concatenate([pinned, inputs.static])):
+            return exc
+        names = [g.group for g in inputs.handle_groups if np.isin(g.indices, pinned).any()]
+        return proportional.pinned_refusal(exc.radius, exc.connected, names)
+
     def region_vertices(self, solver, ob):
         """The Region group's vertices (None: the whole mesh). With proportional on at the
         start the group was not read (record 0056): it is read when O turns it off."""
@@ -161,8 +176,8 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         except engine.EdgeDeformError as exc:
             setattr(s, name, before)
             self.hold(self.solver, self.ob)
-            self.refused = "%s; kept %s" % (exc, proportional.describe(s))
-            tell(self, 'WARNING', self.refused)
+            self.refused = proportional.short_kept(exc, s)
+            tell(self, 'WARNING', proportional.kept(exc, s))
         if self.written is not None:
             self.current = self.written   # the next solve starts from the shape shown
         self.first = True
@@ -170,9 +185,9 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             self.go(GrabEvent.MOVED)
         self.show()
 
-    def circle_where(self):
+    def circles_where(self):
         """Around the dragged vertices where the pointer has put them."""
-        return proportional.circle(self.ob, self.start + self.delta)
+        return proportional.circles(self.ob, [self.start + self.delta])
 
     @property
     def settle_iterations(self):
@@ -232,19 +247,16 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.show()
 
     def show(self):
-        """Blender's G way: the tool's state in the header while it runs."""
+        """Blender's G way: the tool's state in the header while it runs, short enough for
+        a narrow view (its keys are in the status bar, as G's are)."""
         s = self.ob.edge_deform
-        region = proportional.describe(s) + (" (%s)" % proportional.SHORT_KEYS
-                                             if s.proportional else "")
-        if self.refused:
-            region = self.refused
+        region = self.refused or proportional.describe(s, self.settle.runs_long)
         if self.state == Grab.WAITING:
-            self.header("Grab Deform: %d vertices | move the pointer into the view to drag "
-                        "| %s | Esc/Right click: cancel" % (self.n_moving, region))
+            self.header("Grab Deform: %d vertices | move the pointer in the view to drag | %s"
+                        % (self.n_moving, region))
             return
         axis = "along %s" % "XYZ"[self.axis] if self.axis is not None else "free"
-        self.header("Grab Deform: %d vertices | D: %.4g %s | %s | X/Y/Z: axis | "
-                    "Enter/Click: confirm | Esc/Right click: cancel | %s"
+        self.header("Grab Deform: %d vertices | D: %.4g %s | %s | %s"
                     % (self.n_moving, float(np.linalg.norm(self.mw[:3, :3] @ self.delta)),
                        axis, region, self.stats))
 
@@ -301,7 +313,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         return {'RUNNING_MODAL'}
 
     def end(self, context, result, restore=False):
-        self.circle.remove()
+        self.circles.remove()
         compat.status_bar(self.workspace, None)
         self.end_modal(context)
         self.solver.release_grab()   # the settings' handles return on the next sync
