@@ -54,7 +54,11 @@ RESTORED_SETTINGS = SHAPE_GROUPS + REGION_SETTINGS + (
     "stiffness", "domain", "iterations", "tolerance", "acceleration")
 WATCHED_SETTINGS = RESTORED_SETTINGS + OUTPUT_SETTINGS
 def handle_settings(s):
-    return tuple((h.vertex_group, h.controller) for h in s.handles)
+    """The handles' groups and controllers, and whether each controller is still in a
+    scene (X deletes it from every collection; the rebind then lets go of it)."""
+    return tuple((h.vertex_group, h.controller,
+                  h.controller is not None and bool(h.controller.users_collection))
+                 for h in s.handles)
 
 
 class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
@@ -489,12 +493,13 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         length: a handle added or removed during Live is the user's edit, not Live's)."""
         if len(s.handles) != len(self.saved_handles):
             return
-        for h, (group, controller) in zip(s.handles, self.saved_handles):
+        for h, (group, controller, _) in zip(s.handles, self.saved_handles):
             try:
                 if h.vertex_group != group:
                     h.vertex_group = group
-                if h.controller != controller:
-                    h.controller = controller
+                if h.controller != controller and (controller is None
+                                                   or controller.users_collection):
+                    h.controller = controller     # (one deleted meanwhile stays let go)
             except ReferenceError:
                 pass
 
