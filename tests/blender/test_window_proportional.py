@@ -24,9 +24,10 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from helpers import Told, activate, bpy, key_positions, np, positions, select_only, visible  # noqa: E402
-from window_harness import (center, ctrl, event, main, plane,  # noqa: E402
+from window_harness import (at_rest, center, ctrl, event, main, plane,  # noqa: E402
                             running, tap, until, view3d)
-from window_ui import grab_from_the_panel, press_button, sidebar_sections, window_pixels  # noqa: E402
+from window_ui import (grab_from_the_panel, live_from_the_panel, press_button,  # noqa: E402
+                       sidebar_sections, window_pixels)
 
 
 def distance_to(V, idx):
@@ -63,18 +64,7 @@ def ring_brightening(before, after):
 
 
 def start_live():
-    activate(plane())
-    event('MOUSEMOVE', at=center())
-    yield
-    yield from press_button("bpy.ops.edge_deform.live(")
-    yield from until(lambda: running() is not None)
-    assert running() is not None, "the panel's Live Deform did not start Live"
-    event('MOUSEMOVE', at=center())
-    yield
-
-
-def at_rest():
-    return running() is not None and running().settle.at_rest
+    yield from live_from_the_panel(plane())
 
 
 # ---------------------------------------------------------------------------- sections
