@@ -104,6 +104,7 @@ def prepare_steps(ob, inputs=None, require_handles=True, what=None,
     domain, rest or topology), and returns an ObjectSolver ready to solve, or raises Refused
     before anything changes. `what` starts the status texts."""
     if inputs is None:
+        forget_deleted_controllers(ob)
         inputs = engine.gather_inputs(ob, require_handles=require_handles)
     mesh = ob.data
     digest = mesh_arrays.topology_digest(mesh)
@@ -221,6 +222,16 @@ def unbind(ob):
         st.output, st.written = 'NONE', ""
     st.topology, st.unheld = "", 0
     return was
+
+
+def forget_deleted_controllers(ob):
+    """Let go of controllers deleted from every scene: X leaves the object in the file, in
+    no collection, kept only by the handle's pointer. The handle then has no controller,
+    as after bpy.data.objects.remove (a warning; it holds its vertices at rest), and the
+    file keeps no such object."""
+    for h in ob.edge_deform.handles:
+        if h.controller is not None and not h.controller.users_collection:
+            h.controller = None
 
 
 def record_rest_transforms(ob):

@@ -72,15 +72,16 @@ def live_next(state, event):
 
 
 class Grab(enum.Enum):
-    WAITING = "waiting"        # started from a button: nothing moves before the pointer
-                               # is in the viewport (its motion counts from there)
+    WAITING = "waiting"        # nothing moves (nothing is solved) before the pointer moves
+                               # in the viewport (its motion counts from where it first is
+                               # there: from the panel's button, where it enters the view)
     DRAGGING = "dragging"      # the pointer (or the axis) changed: solve for it
     SETTLING = "settling"      # the pointer stands still, not settled: iterate
     AT_REST = "at rest"        # settled, gave up, or the solve failed: wait for the pointer
 
 
 class GrabEvent(enum.Enum):
-    ENTERED = "entered"        # the pointer reached the viewport
+    STARTED = "started"        # the pointer moved in the viewport
     MOVED = "moved"            # the pointer moved or the axis changed
     ITERATED = "iterated"
     SETTLED = "settled"        # settled, or reached the give-up limit
@@ -88,7 +89,7 @@ class GrabEvent(enum.Enum):
 
 
 _GRAB = {
-    Grab.WAITING: {GrabEvent.ENTERED: Grab.DRAGGING},
+    Grab.WAITING: {GrabEvent.STARTED: Grab.DRAGGING},
     Grab.DRAGGING: {GrabEvent.MOVED: Grab.DRAGGING, GrabEvent.ITERATED: Grab.SETTLING,
                     GrabEvent.SETTLED: Grab.AT_REST, GrabEvent.FAILED: Grab.AT_REST},
     Grab.SETTLING: {GrabEvent.MOVED: Grab.DRAGGING, GrabEvent.ITERATED: Grab.SETTLING,

@@ -7,7 +7,7 @@ from bpy.props import BoolProperty, IntProperty
 
 from . import engine, frame_handler, lifecycle, output, solver_cache, tool_guard
 from .jobs import StepsJob
-from .op_common import deformed_object, guarded, poll_mesh, tell
+from .op_common import deformed_object, guarded, tell
 from .progress import run_steps
 
 class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
@@ -28,7 +28,7 @@ class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return poll_mesh(cls, context, ('OBJECT',), need_handles=True, follow_controller=True)
+        return tool_guard.poll(cls, context)
 
     def frames(self, scene):
         start, end = ((scene.frame_start, scene.frame_end) if self.use_scene_range
@@ -40,7 +40,6 @@ class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
     def begin(self, context):
         """Check and bind; nothing is written before every frame is solved."""
         self.ob, self.scene = deformed_object(context), context.scene
-        tool_guard.refuse_while_a_tool_runs(self.ob, "Bake")
         self.todo = self.frames(self.scene)
         self.frame0 = self.scene.frame_current
         self.results = []

@@ -8,8 +8,7 @@ from bpy.props import BoolProperty
 
 from . import engine, lifecycle, tool_guard
 from .jobs import StepsJob
-from .op_common import (deformed_object, guarded, poll_mesh, redraw_views, report_lines,
-                        tell)
+from .op_common import deformed_object, guarded, redraw_views, report_lines, tell
 from .progress import busy, run_steps
 
 
@@ -22,7 +21,7 @@ class EDGE_DEFORM_OT_bind(StepsJob, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return poll_mesh(cls, context, ('OBJECT',), need_handles=True, follow_controller=True)
+        return tool_guard.poll(cls, context)
 
     def text(self, ob):
         return "Binding '%s' (%d vertices)…" % (ob.name, len(ob.data.vertices))
@@ -30,7 +29,6 @@ class EDGE_DEFORM_OT_bind(StepsJob, bpy.types.Operator):
     @guarded
     def execute(self, context):
         ob = deformed_object(context)
-        tool_guard.refuse_while_a_tool_runs(ob, "Bind")
         self.t0 = time.perf_counter()
         return self.job_done(context, run_steps(context, self.text(ob), lifecycle.bind_steps(ob)))
 
@@ -39,7 +37,6 @@ class EDGE_DEFORM_OT_bind(StepsJob, bpy.types.Operator):
         """From the UI: one stage per timer tick, so the status bar says what happens
         (reading, building the graph, factoring) and Esc cancels between stages."""
         ob = deformed_object(context)
-        tool_guard.refuse_while_a_tool_runs(ob, "Bind")
         self.object_name, self.t0 = ob.name, time.perf_counter()
         return self.start_job(context, self.text(ob), lifecycle.bind_steps(ob))
 
@@ -71,12 +68,11 @@ class EDGE_DEFORM_OT_solve(StepsJob, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return poll_mesh(cls, context, ('OBJECT',), need_handles=True, follow_controller=True)
+        return tool_guard.poll(cls, context)
 
     @guarded
     def execute(self, context):
         ob = deformed_object(context)
-        tool_guard.refuse_while_a_tool_runs(ob, "Solve")
         self.t0 = time.perf_counter()
         with busy(context, "Deforming '%s'…" % ob.name):
             bound, r = lifecycle.deform(ob, warm=self.warm_start)
@@ -89,7 +85,6 @@ class EDGE_DEFORM_OT_solve(StepsJob, bpy.types.Operator):
         if self.warm_start:
             return self.execute(context)
         ob = deformed_object(context)
-        tool_guard.refuse_while_a_tool_runs(ob, "Solve")
         self.object_name, self.t0 = ob.name, time.perf_counter()
         return self.start_job(context, "Deforming '%s'…" % ob.name,
                               lifecycle.deform_steps(ob))
@@ -116,12 +111,11 @@ class EDGE_DEFORM_OT_apply(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return poll_mesh(cls, context, ('OBJECT',), need_handles=True, follow_controller=True)
+        return tool_guard.poll(cls, context)
 
     @guarded
     def execute(self, context):
         ob = deformed_object(context)
-        tool_guard.refuse_while_a_tool_runs(ob, "Apply")
         lifecycle.apply(ob)
         tell(self, 'INFO', "Applied to the base mesh; it is the new rest shape")
         redraw_views(context)
@@ -137,11 +131,10 @@ class EDGE_DEFORM_OT_unbind(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return poll_mesh(cls, context, ('OBJECT',))
+        return tool_guard.poll(cls, context, on_controller=False)
 
     @guarded
     def execute(self, context):
-        tool_guard.refuse_while_a_tool_runs(context.active_object, "Unbind")
         was = lifecycle.unbind(context.active_object)
         tell(self, 'INFO', "Unbound" if was else "Was not bound")
         redraw_views(context)

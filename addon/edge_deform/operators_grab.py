@@ -2,13 +2,14 @@
 
 Like G in Edit Mode: the motion follows the pointer in screen pixels from where it was
 when the tool started (started from the panel's button, from where the pointer first
-enters the viewport: nothing moves before), X/Y/Z constrain the motion to a global axis
-(press again to free it), Enter/click confirms, Esc/right click restores. The mesh is shown
-in Object Mode while dragging (bpy can only write whole arrays there) and Edit Mode comes
-back at the end, showing the dragged shape: with Output Shape Key the output key becomes
-the active key, the one Edit Mode shows and edits. The drag starts from the shape shown
-(shown_shape.py: after Bake, the frame on screen). Other handle groups stay where they are
-shown; static vertices and vertices outside the region stay at rest. On confirm, a handle
+enters the viewport), nothing moves before the pointer does, X/Y/Z constrain the motion to
+a global axis (press again to free it), Enter/click confirms, Esc/right click restores.
+The mesh is shown in Object Mode while dragging (bpy can only write whole arrays there) and
+Edit Mode comes back at the end, showing the dragged shape: with Output Shape Key the
+output key becomes the active key, the one Edit Mode shows and edits. The drag starts from
+the shape shown (shown_shape.py: after Bake, the frame on screen). Other handle groups stay
+where they are shown; static vertices and vertices outside the region stay at rest. No
+handle is needed: the dragged vertices are the handle (record 0068). On confirm, a handle
 whose vertices were dragged holds them where they are (handle_holds.py); how many dragged
 vertices no handle holds is noted, for Live to say before a solve moves them.
 
@@ -81,7 +82,10 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             self.held = np.concatenate([moving, pinned])
             self.moving = moving        # (hold measures the radius from them)
             self.group_region = None
-            self.hold(solver, ob)
+            try:
+                self.hold(solver, ob)
+            except proportional.NothingFree as exc:
+                raise self.why_nothing_is_free(exc, solver) from None
         except Exception:
             if solver is not None:
                 solver.release_grab()   # the settings' constraints return on the next sync
@@ -98,10 +102,12 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.depth = ob.matrix_world @ Vector(self.start.mean(axis=0))
         self.region, self.rv3d = view_region(context)
         self.mouse = self.in_region(event)
-        # From the panel's button the pointer is over the sidebar, which lies over the
-        # view: the drag starts where the pointer reaches the view itself.
+        # Nothing is solved before the pointer moves (as G moves nothing before): a shape
+        # that had not settled (a baked frame) would move under a still pointer. From the
+        # panel's button the pointer is over the sidebar, which lies over the view: the
+        # drag counts from where the pointer reaches the view itself.
         self.origin = self.mouse if over_the_view(context.area, event) else None
-        self.state = Grab.DRAGGING if self.origin is not None else Grab.WAITING
+        self.state = Grab.WAITING
         self.axis = None
         self.first = True           # the first solve starts from what is shown
         self.delta = np.zeros(3)
@@ -109,7 +115,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.stats = ""
         self.refused = None         # why the last radius change was refused, for the header
         self.start_modal(context, ob)
-        self.circle = overlay.RadiusCircle(self.area, self.circle_where)
+        self.circles = overlay.RadiusCircles(self.area, self.circles_where)
         self.status_drawn = None    # the key hints Blender last drew in the status bar
         compat.status_bar(self.workspace, self.draw_status)
         self.show()
@@ -136,6 +142,18 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         solver.hold_grab(self.held, solver.inputs.static, roi, radius, connected,
                          roi_from=self.moving if radius is not None else None)
 
+    def why_nothing_is_free(self, exc, solver):
+        """At the start (the keys do nothing yet): when every vertex within the radius of
+        the selection is held, by the rest of a handle it is part of or by Static, say so
+        rather than blame the radius."""
+        inputs = solver.inputs
+        pinned = np.setdiff1d(self.held, self.moving)
+        if not proportional.held_within(solver.binding.X, self.moving, exc.radius,
+                                        np.concatenate([pinned, inputs.static])):
+            return exc
+        names = [g.group for g in inputs.handle_groups if np.isin(g.indices, pinned).any()]
+        return proportional.pinned_refusal(exc.radius, exc.connected, names)
+
     def region_vertices(self, solver, ob):
         """The Region group's vertices (None: the whole mesh). With proportional on at the
         start the group was not read (record 0056): it is read when O turns it off."""
@@ -158,8 +176,8 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         except engine.EdgeDeformError as exc:
             setattr(s, name, before)
             self.hold(self.solver, self.ob)
-            self.refused = "%s; kept %s" % (exc, proportional.describe(s))
-            tell(self, 'WARNING', self.refused)
+            self.refused = proportional.short_kept(exc, s)
+            tell(self, 'WARNING', proportional.kept(exc, s))
         if self.written is not None:
             self.current = self.written   # the next solve starts from the shape shown
         self.first = True
@@ -167,9 +185,9 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             self.go(GrabEvent.MOVED)
         self.show()
 
-    def circle_where(self):
+    def circles_where(self):
         """Around the dragged vertices where the pointer has put them."""
-        return proportional.circle(self.ob, self.start + self.delta)
+        return proportional.circles(self.ob, [self.start + self.delta])
 
     @property
     def settle_iterations(self):
@@ -205,12 +223,19 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         targets = np.concatenate([self.start + self.delta, self.pinned])
 
         def solve(n, check_claims):
-            initial = self.current if self.first else None
-            self.first = False
-            return self.solver.solve(targets, n, s.tolerance, warm=True, initial=initial,
+            if self.first:
+                # From the shape shown, first a few iterations where it holds the dragged
+                # vertices, then on to the pointer (warm), as when Grab solved before the
+                # pointer moved: a cold start straight at a far target can stall (the
+                # plane, a 0.27 drag: 2,000 iterations unconverged; this way 1,660, settled).
+                self.first = False
+                self.solver.solve(self.current[self.held], settle.LEAST_ITERATIONS,
+                                  s.tolerance, warm=True, initial=self.current,
+                                  check_claims=False)
+            return self.solver.solve(targets, n, s.tolerance, warm=True,
                                      check_claims=check_claims)
         try:
-            r = self.settle.tick(solve, moving)
+            r = self.settle.tick(solve, moving, system=self.solver.binding.system)
             self.solver.write(r.positions)
             self.written = r.positions
         except Exception as exc:  # noqa: BLE001 - shown; the next move retries
@@ -222,19 +247,16 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.show()
 
     def show(self):
-        """Blender's G way: the tool's state in the header while it runs."""
+        """Blender's G way: the tool's state in the header while it runs, short enough for
+        a narrow view (its keys are in the status bar, as G's are)."""
         s = self.ob.edge_deform
-        region = proportional.describe(s) + (" (%s)" % proportional.SHORT_KEYS
-                                             if s.proportional else "")
-        if self.refused:
-            region = self.refused
+        region = self.refused or proportional.describe(s, self.settle.runs_long)
         if self.state == Grab.WAITING:
-            self.header("Grab Deform: %d vertices | move the pointer into the view to drag "
-                        "| %s | Esc/Right click: cancel" % (self.n_moving, region))
+            self.header("Grab Deform: %d vertices | move the pointer in the view to drag | %s"
+                        % (self.n_moving, region))
             return
         axis = "along %s" % "XYZ"[self.axis] if self.axis is not None else "free"
-        self.header("Grab Deform: %d vertices | D: %.4g %s | %s | X/Y/Z: axis | "
-                    "Enter/Click: confirm | Esc/Right click: cancel | %s"
+        self.header("Grab Deform: %d vertices | D: %.4g %s | %s | %s"
                     % (self.n_moving, float(np.linalg.norm(self.mw[:3, :3] @ self.delta)),
                        axis, region, self.stats))
 
@@ -263,10 +285,13 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             self.mouse = self.in_region(event)
             if self.state == Grab.WAITING:
                 if over_the_view(self.area, event):
-                    self.origin = self.mouse
-                    self.go(GrabEvent.ENTERED)
+                    if self.origin is None:
+                        self.origin = self.mouse
+                    elif self.mouse != self.origin:
+                        self.go(GrabEvent.STARTED)
                     self.show()
             else:
+                self.refused = None     # (the refusal was reported; the drag goes on)
                 self.go(GrabEvent.MOVED)
         elif event.type == 'TIMER':
             if self.state in (Grab.DRAGGING, Grab.SETTLING):
@@ -288,7 +313,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         return {'RUNNING_MODAL'}
 
     def end(self, context, result, restore=False):
-        self.circle.remove()
+        self.circles.remove()
         compat.status_bar(self.workspace, None)
         self.end_modal(context)
         self.solver.release_grab()   # the settings' handles return on the next sync

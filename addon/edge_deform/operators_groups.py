@@ -58,7 +58,9 @@ class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
                     ob.vertex_groups[other].remove(idx.tolist())
             vg = ob.vertex_groups.new(name=self.name or "Handle")   # unique: "Handle.001"
             mesh_arrays.assign_group(ob, vg.name, idx)
-            empty = bpy.data.objects.new(vg.name + "_Controller", None)
+            # Named after the object and the group: "Handle_Controller" of every mesh
+            # crept to "Handle_Controller.004".
+            empty = bpy.data.objects.new("%s_%s" % (ob.name, vg.name), None)
             empty.empty_display_type = 'SPHERE'
             empty.empty_display_size = size
             empty.matrix_world = Matrix.Translation(centroid)

@@ -30,8 +30,8 @@ previous domain and its graph, the mesh untouched (nothing is written until it i
 
 import bpy
 
-from . import (engine, lifecycle, live_selection, overlay, preferences, proportional, settle,
-               shown_shape, solver_cache)
+from . import (engine, lifecycle, live_selection, modal_tool, overlay, preferences,
+               proportional, settle, shown_shape, solver_cache)
 from .modal_states import Live, LiveEvent, live_next
 from .modal_tool import ModalTool
 from .op_common import deformed_object, error_text, guarded, over_the_view, poll_mesh, tell
@@ -54,7 +54,11 @@ RESTORED_SETTINGS = SHAPE_GROUPS + REGION_SETTINGS + (
     "stiffness", "domain", "iterations", "tolerance", "acceleration")
 WATCHED_SETTINGS = RESTORED_SETTINGS + OUTPUT_SETTINGS
 def handle_settings(s):
-    return tuple((h.vertex_group, h.controller) for h in s.handles)
+    """The handles' groups and controllers, and whether each controller is still in a
+    scene (X deletes it from every collection; the rebind then lets go of it)."""
+    return tuple((h.vertex_group, h.controller,
+                  h.controller is not None and bool(h.controller.users_collection))
+                 for h in s.handles)
 
 
 class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
@@ -93,10 +97,11 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.hint = None            # what G/R/S move, in words (live_selection)
         self.updates = 0
         self.settle = settle.Settle()
+        self.hinted = False         # the long-settle hint was given (once a session)
         self.keys_up, self.keys_down, self.keys_label = preferences.stiffness_keys(context)
         self.start_modal(context, ob)
         self.text = overlay.ViewportText(self.area)
-        self.circle = overlay.RadiusCircle(self.area, self.circle_where)
+        self.circles = overlay.RadiusCircles(self.area, self.circles_where)
         self.hold_undo_steps(context)
         self.surroundings.select_controller(self.active_controller())
         self.hint = live_selection.what_g_moves(context.view_layer, ob)
@@ -168,7 +173,8 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                 return
             targets = self.solver.targets()
             r = self.settle.tick(lambda n, check: self.solve(targets, n, check),
-                                 moving=self.settle.iterations == 0)
+                                 moving=self.settle.iterations == 0,
+                                 system=self.solver.binding.system)
             self.solver.write(r.positions)
         except Exception as exc:  # noqa: BLE001 - shown, and retried on the next change
             self.refuse(exc)
@@ -177,6 +183,9 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.updates += 1
         self.go(LiveEvent.SETTLED if self.settle.at_rest else LiveEvent.ITERATED)
         self.show(settle.describe(self.settle, "move a controller"))
+        if self.settle.runs_long and not self.hinted and not self.ob.edge_deform.proportional:
+            self.hinted = True
+            self.say('INFO', proportional.LONG_SETTLE_HINT)
 
     def solve(self, targets, iterations, check_claims):
         """More warm iterations; a solve that would start from scratch (the first, or after
@@ -284,7 +293,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.solver = solver
         self.seen_settings = self.watched_settings(self.ob)
         self.seen_controllers = None
-        self.settle.new_graph()          # the new graph has its own speed
+        self.settle.changed()
         self.go(LiveEvent.SWITCH_ENDED)
         self.show("new graph ready, solving…")
 
@@ -306,7 +315,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
     def end_modal(self, context):
         if self.state == Live.SWITCHING:   # (any way out: the progress and cursor end too)
             self.switch.stop()
-        for drawing in (getattr(self, "text", None), getattr(self, "circle", None)):
+        for drawing in (getattr(self, "text", None), getattr(self, "circles", None)):
             if drawing is not None:
                 drawing.remove()
         super().end_modal(context)
@@ -325,7 +334,8 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                      else "%s stiffness" % self.keys_label)
         self.text.set([self.status_text,
                        "Enter keep · Esc cancel · %s · %s" % (stiffness, self.hint),
-                       "%s · %s" % (proportional.describe(s), proportional.KEYS)])
+                       "%s · %s" % (proportional.describe(s, self.settle.runs_long),
+                                    proportional.KEYS)])
 
     def end_report(self):
         """What Enter kept, in one sentence."""
@@ -369,16 +379,10 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                     return {'RUNNING_MODAL'}
             if event.type in {'RET', 'NUMPAD_ENTER'} and not (event.ctrl or event.alt):
                 return self.finish(context)
-            s = self.ob.edge_deform
-            toggled = proportional.toggle_key(event)
-            if toggled is not None:
-                self.change_region(context, toggled, not getattr(s, toggled))
+            if self.region_key(context, event):
                 return {'RUNNING_MODAL'}
-            factor = proportional.size_key(event)
-            if factor is not None and s.proportional:   # (off: the wheel zooms)
-                self.change_region(context, "proportional_radius",
-                                   proportional.resized(s, factor))
-                return {'RUNNING_MODAL'}
+            if starts_a_transform(context, event):
+                EDGE_DEFORM_OT_live_transform_keys.follow(context)
         if event.value == 'PRESS' and event.type == 'Z' and (event.ctrl or event.oskey):
             self.say('WARNING', "Confirm or cancel Live Deform before undoing (Enter keeps, "
                                 "Esc cancels)")
@@ -389,6 +393,20 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                 return {'RUNNING_MODAL'}
             return self.cancel_and_restore(context)
         return {'PASS_THROUGH'}
+
+    def region_key(self, context, event):
+        """O, Alt+O, the wheel and Page Up/Down (pressed over the view in Object Mode):
+        the proportional region. True when the key was taken (off, the wheel zooms)."""
+        s = self.ob.edge_deform
+        toggled = proportional.toggle_key(event)
+        if toggled is not None:
+            self.change_region(context, toggled, not getattr(s, toggled))
+            return True
+        factor = proportional.size_key(event)
+        if factor is not None and s.proportional:
+            self.change_region(context, "proportional_radius", proportional.resized(s, factor))
+            return True
+        return False
 
     def change_stiffness(self, context, up):
         s = self.ob.edge_deform
@@ -414,7 +432,12 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         except engine.EdgeDeformError as exc:
             setattr(s, name, before)
             self.follow_radius() if name in RADIUS_SETTINGS else self.rebind()
-            self.say('WARNING', "%s; kept %s" % (exc, proportional.describe(s)))
+            self.say('WARNING', proportional.kept(exc, s))
+        else:
+            if name == "proportional" and not value:
+                # Deliberately from the shape shown (record 0068): what the artist sees
+                # goes on, where a fresh solve from the rest may settle elsewhere.
+                self.text.tell(proportional.OFF_CONTINUES)
         self.update(context)
 
     def follow_radius(self):
@@ -428,11 +451,13 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.seen_settings = self.watched_settings(self.ob)
         self.seen_controllers = None
 
-    def circle_where(self):
-        """Where the radius circle goes: around the handles where they are now."""
+    def circles_where(self):
+        """Where the radius circles go: around each handle that moves, where it is now
+        (as Blender centres its circle on what it moves); before any moves, around each."""
         if self.solver is None:
-            return None
-        return proportional.circle(self.ob, self.solver.targets())
+            return []
+        return proportional.circles(self.ob, engine.moving_handles(
+            self.solver.targets(), self.solver.binding.X, self.solver.inputs))
 
     def finish(self, context):
         while self.state == Live.SWITCHING:   # Enter during a domain switch: complete it
@@ -468,12 +493,13 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         length: a handle added or removed during Live is the user's edit, not Live's)."""
         if len(s.handles) != len(self.saved_handles):
             return
-        for h, (group, controller) in zip(s.handles, self.saved_handles):
+        for h, (group, controller, _) in zip(s.handles, self.saved_handles):
             try:
                 if h.vertex_group != group:
                     h.vertex_group = group
-                if h.controller != controller:
-                    h.controller = controller
+                if h.controller != controller and (controller is None
+                                                   or controller.users_collection):
+                    h.controller = controller     # (one deleted meanwhile stays let go)
             except ReferenceError:
                 pass
 
@@ -492,4 +518,63 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.snapshot.discard()
 
 
-CLASSES = (EDGE_DEFORM_OT_live,)
+# Blender's transforms, which the 3D View's keymap starts (G, R, S by default).
+TRANSFORMS = {"transform.translate", "transform.rotate", "transform.resize"}
+TRANSFORM_KEYMAPS = ("3D View", "Object Mode")
+# The keys that end one (Transform Modal Map: confirm and cancel).
+ENDS_A_TRANSFORM = {'LEFTMOUSE', 'RET', 'NUMPAD_ENTER', 'SPACE', 'RIGHTMOUSE', 'ESC'}
+
+
+def starts_a_transform(context, event):
+    """Does the 3D View's (or Object Mode's) keymap start one of Blender's transforms on
+    `event`, as the artist has the keys set?"""
+    keymaps = context.window_manager.keyconfigs.user.keymaps
+    return any(item.active and item.idname in TRANSFORMS and item.type == event.type
+               and item.value == event.value and bool(item.ctrl) == event.ctrl
+               and bool(item.alt) == event.alt and bool(item.shift) == event.shift
+               for name in TRANSFORM_KEYMAPS if keymaps.get(name) is not None
+               for item in keymaps[name].keymap_items)
+
+
+# Blender's transform takes every key while it runs: Live, under it, saw no O or wheel
+# during a G (record 0066). This tool sits over the transform until it ends and gives those
+# keys to Live; every other event passes through to the transform.
+class EDGE_DEFORM_OT_live_transform_keys(bpy.types.Operator):
+    """Proportional editing's keys for Live Deform while you move a controller with G, R
+    or S: O and Alt+O toggle it, the wheel and Page Up/Down size it"""
+    bl_idname = "edge_deform.live_transform_keys"
+    bl_label = "Live Deform: Proportional Keys"
+    bl_options = {'INTERNAL'}
+
+    @staticmethod
+    def follow(context):
+        """Called on the key that starts the transform: once Blender has started it (the
+        key's own handling), start this over it."""
+        where = {"window": context.window, "area": context.area, "region": context.region}
+
+        def start():
+            try:
+                with bpy.context.temp_override(**where):
+                    bpy.ops.edge_deform.live_transform_keys('INVOKE_DEFAULT')
+            except (ReferenceError, RuntimeError, TypeError):
+                pass            # the window or the view went meanwhile
+            return None
+        bpy.app.timers.register(start, first_interval=0.0)
+
+    def invoke(self, context, event):
+        context.window_manager.modal_handler_add(self)
+        return {'RUNNING_MODAL'}
+
+    def modal(self, context, event):
+        live = modal_tool.running_tool()
+        if not isinstance(live, EDGE_DEFORM_OT_live):
+            return {'CANCELLED', 'PASS_THROUGH'}
+        if event.value == 'PRESS' and event.type in ENDS_A_TRANSFORM:
+            return {'FINISHED', 'PASS_THROUGH'}      # the transform ends on it
+        if (event.value == 'PRESS' and live.ob.mode == 'OBJECT'
+                and over_the_view(live.area, event) and live.region_key(context, event)):
+            return {'RUNNING_MODAL'}
+        return {'PASS_THROUGH'}
+
+
+CLASSES = (EDGE_DEFORM_OT_live, EDGE_DEFORM_OT_live_transform_keys)

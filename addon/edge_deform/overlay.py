@@ -1,9 +1,10 @@
 """What the tools draw over one 3D viewport while they run: Live Deform's status and keys
 as text, at the top left of the view under Blender's own text (the view's and the object's
 name), clear of the redo panel at the bottom left; and the proportional radius as a
-circle around the handles, as Blender's transform draws its proportional size. The header
-and the status bar stay Blender's: a G/R/S inside Live shows its typed value, axis and key
-hints there, and reports (a refused key) show in the status bar as always."""
+circle around each handle that moves, as Blender's transform draws its proportional size
+around what it moves. The header and the status bar stay Blender's: a G/R/S inside Live
+shows its typed value, axis and key hints there, and reports (a refused key) show in the
+status bar as always."""
 
 import math
 import time
@@ -108,12 +109,12 @@ CIRCLE_SEGMENTS = 64
 CIRCLE_COLOR = (1.0, 1.0, 1.0, 0.8)   # Blender's proportional circle is a light line too
 
 
-class RadiusCircle:
-    """A screen-space circle over `area`'s view until remove(): around the world point
-    `where()` gives, of the world radius projected there (the view's right-hand direction
-    scaled by the radius). `where()` returns (centre, radius) in world space, or None to
-    draw nothing (proportional off). `drawn` holds (x, y, radius) in region pixels of the
-    last draw, or None (what the window tests read back)."""
+class RadiusCircles:
+    """Screen-space circles over `area`'s view until remove(): around the world points
+    `where()` gives, each of its world radius projected there (the view's right-hand
+    direction scaled by the radius). `where()` returns a list of (centre, radius) in world
+    space, empty to draw nothing (proportional off). `drawn` holds [(x, y, radius)] in region
+    pixels of the last draw, or None (what the window tests read back)."""
 
     def __init__(self, area, where):
         self.area = area
@@ -144,27 +145,23 @@ class RadiusCircle:
             placed = self.where()
         except ReferenceError:
             return
-        if placed is None:
-            self.drawn = None
-            return
-        centre, radius = placed
         region, rv3d = context.region, context.region_data
-        right = rv3d.view_rotation @ centre.__class__((1.0, 0.0, 0.0))
-        c = location_3d_to_region_2d(region, rv3d, centre)
-        e = location_3d_to_region_2d(region, rv3d, centre + right * radius)
-        if c is None or e is None:       # behind the viewer
-            self.drawn = None
-            return
-        r = (e - c).length
-        points = [(c.x + r * math.cos(t), c.y + r * math.sin(t))
-                  for t in (2.0 * math.pi * i / CIRCLE_SEGMENTS
-                            for i in range(CIRCLE_SEGMENTS + 1))]
+        drawn = []
+        for centre, radius in placed:
+            right = rv3d.view_rotation @ centre.__class__((1.0, 0.0, 0.0))
+            c = location_3d_to_region_2d(region, rv3d, centre)
+            e = location_3d_to_region_2d(region, rv3d, centre + right * radius)
+            if c is not None and e is not None:       # (None: behind the viewer)
+                drawn.append((c.x, c.y, (e - c).length))
         # (The one name from 3.4, checked there, to 5.x; the "2D_" names went in 4.0.)
         shader = gpu.shader.from_builtin('UNIFORM_COLOR')
-        batch = batch_for_shader(shader, 'LINE_STRIP', {"pos": points})
         gpu.state.blend_set('ALPHA')
         shader.bind()
         shader.uniform_float("color", CIRCLE_COLOR)
-        batch.draw(shader)
+        for x, y, r in drawn:
+            points = [(x + r * math.cos(t), y + r * math.sin(t))
+                      for t in (2.0 * math.pi * i / CIRCLE_SEGMENTS
+                                for i in range(CIRCLE_SEGMENTS + 1))]
+            batch_for_shader(shader, 'LINE_STRIP', {"pos": points}).draw(shader)
         gpu.state.blend_set('NONE')
-        self.drawn = (c.x, c.y, r)
+        self.drawn = drawn or None

@@ -39,6 +39,14 @@ def _acceleration_items(self, context):
 _acceleration_items.cache = []
 
 
+def _fit_radius(settings, _context):
+    """Proportional on with no radius chosen yet (0): one that fits the object, kept from
+    then on (a fixed 1 m tore a 229-unit figure and fell outside a 2 cm one; record 0066).
+    (An update callback: it runs for the panel, the keys and scripts alike.)"""
+    if settings.proportional and settings.proportional_radius == 0.0:
+        settings.proportional_radius = engine.fitted_radius(settings.id_data)
+
+
 class EdgeDeformHandle(bpy.types.PropertyGroup):
     vertex_group: StringProperty(
         name="Vertex Group", description="Vertices moved by this handle")
@@ -65,15 +73,18 @@ class EdgeDeformSettings(bpy.types.PropertyGroup):
     roi_group: StringProperty(
         name="Region", description="Only these vertices may move (empty: whole mesh)")
     proportional: BoolProperty(
-        name="Proportional", default=False,
+        name="Proportional", default=False, update=_fit_radius,
         description="Only the vertices within the radius of the handles may move, as in "
                     "Blender's proportional editing; the rest stays at rest. Overrides the "
-                    "Region group while on (O toggles it in Live and Grab Deform)")
+                    "Region group while on (O toggles it in Live and Grab Deform). Live "
+                    "goes on from the shape shown when it is toggled, so the same pose can "
+                    "settle a little differently than a Solve from the rest")
     proportional_radius: FloatProperty(
-        name="Radius", default=1.0, min=1e-6, soft_max=100.0, subtype='DISTANCE',
-        unit='LENGTH', precision=3,
+        name="Radius", default=0.0, min=0.0, soft_max=100.0, subtype='DISTANCE',
+        unit='LENGTH', precision=3, update=_fit_radius,
         description="How far from the handles vertices may move, in the mesh's units "
-                    "(Wheel or Page Up/Page Down change it in Live and Grab Deform)")
+                    "(Wheel or Page Up/Page Down change it in Live and Grab Deform; 0: a "
+                    "quarter of the object's size, set when Proportional turns on)")
     proportional_connected: BoolProperty(
         name="Connected Only", default=False,
         description="Measure the radius over the mesh's surface, so parts that are near "

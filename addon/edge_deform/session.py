@@ -9,11 +9,13 @@ is the one way to forget one); a Binding's state changes only through its method
 
 import enum
 import hashlib
+import itertools
 import time
 
 import numpy as np
 
 _bindings = {}
+_systems = itertools.count(1)   # Binding.system: unique over the session's Bindings
 
 
 def _digest(*arrays):
@@ -47,9 +49,9 @@ class Binding:
     """A Deformer bound to one mesh, with the constraints and stiffness it was given.
 
     Read-only for everyone else: the mesh's identity (`mesh_pointer`, `counts`, `digest`),
-    its rest shape `X`, triangles `F`, the `deformer`, the `domain` and the `inputs` (with
-    their owner) last synced. Changed only by build, sync, hold_grab, release_grab and
-    start_cold."""
+    its rest shape `X`, triangles `F`, the `deformer`, the `domain`, the `system` it
+    solves and the `inputs` (with their owner) last synced. Changed only by build, sync,
+    hold_grab, release_grab and start_cold."""
 
     def __init__(self, mesh_pointer, counts, digest, X, F):
         self.mesh_pointer = mesh_pointer
@@ -69,6 +71,7 @@ class Binding:
         # The next solve starts cold (a new graph or new constraints): a warm start would
         # continue from a shape solved for other constraints.
         self._cold_start_due = True
+        self._system = next(_systems)
 
     # ---------------------------------------------------------------- reading
 
@@ -83,6 +86,13 @@ class Binding:
     @property
     def constraints(self):
         return self._constraints
+
+    @property
+    def system(self):
+        """Names the system the solver iterates on: changes with the graph, the constraints
+        (the free vertices) and λ. The tools measure their speed again after a change
+        (settle.Settle.tick)."""
+        return self._system
 
     @property
     def starts_cold(self):
@@ -114,6 +124,7 @@ class Binding:
         self._constraints, self._constraint_key, self._stiffness_key = (
             Constraints.NONE, None, None)
         self._cold_start_due = True
+        self._system = next(_systems)
 
     def sync(self, ed, inputs, owner):
         """Bring the Deformer in line with `inputs` (the settings of the object named
@@ -127,9 +138,13 @@ class Binding:
         t0, factored = time.perf_counter(), False
         ckey = (_digest(inputs.handles, inputs.static, inputs.roi), inputs.roi_radius,
                 inputs.roi_connected)
-        if self._constraints != Constraints.SETTINGS or ckey != self._constraint_key:
+        # No handles (Grab Deform on a mesh without any: its selection is the handle, set
+        # by hold_grab next): there are no settings' constraints to set.
+        if inputs.handles.size and (self._constraints != Constraints.SETTINGS
+                                    or ckey != self._constraint_key):
             factored = True
             self._constraints, self._constraint_key = Constraints.NONE, None
+            self._system = next(_systems)
             self._deformer.set_constraints(handles=inputs.handles, static=inputs.static,
                                            **_region(inputs.roi, inputs.roi_radius,
                                                      inputs.roi_connected))
@@ -140,6 +155,7 @@ class Binding:
         if skey != self._stiffness_key:
             factored = True
             self._stiffness_key = None
+            self._system = next(_systems)
             self._deformer.set_stiffness(lam)
             self._stiffness_key = skey
         if factored:
@@ -150,6 +166,7 @@ class Binding:
                   roi_from=None):
         """Grab Deform's constraints (its selection), until release_grab."""
         self._constraints, self._constraint_key = Constraints.NONE, None
+        self._system = next(_systems)
         self._deformer.set_constraints(handles=handles, static=static,
                                        **_region(roi, roi_radius, roi_connected, roi_from))
         self._constraints = Constraints.GRAB

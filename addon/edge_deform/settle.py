@@ -10,6 +10,12 @@ takes 0.6-1.9 s), as long as Blender took, up to a cap. So slow redraws do not t
 the solve: the solver gets at least half of the wall time. The cap is lower while the
 targets move (the artist waits for the next frame) than while they stand still.
 
+The speed a tick is sized from is measured on the system the solver iterates on now: after
+any change of it (a region to the whole mesh, the whole mesh to a region, λ, the domain, a
+rebind: session.Binding.system changes) the first call asks for LEAST_ITERATIONS and
+measures. Sized from a 40-vertex region's speed, the first whole-mesh tick after O asked
+for 609 iterations, 14 s of a frozen window (record 0067).
+
 "Settled" needs a claim made in a call that asked for the check: a tick whose targets stand
 still asks the solver to check a convergence claim against J_G's slowest mode first (the
 core's verify_claims, for the plain and Anderson methods: without it Live called the 50k
@@ -34,6 +40,9 @@ SETTLE_LIMIT = 2000
 # unconverged after 1500 one-iteration calls, where calls of 2 or more stop at iteration
 # 1519, as one long call does). So no call asks for fewer than this.
 LEAST_ITERATIONS = 2
+# A settle still running after this long (the artist waiting) is worth a word: on a big
+# mesh a proportional radius makes it local and quick (the tools say so once).
+LONG_WAIT_MS = 3000.0
 
 
 def is_settled(result):
@@ -68,6 +77,7 @@ class Settle:
         self._limit = limit          # None: SETTLE_LIMIT as it is now (tests lower it)
         self.clock = clock
         self.ms_per_iteration = None
+        self.system = None           # what ms_per_iteration was measured on
         self.last_tick_end = None
         self.changed()
 
@@ -81,11 +91,6 @@ class Settle:
         self.waited_ms = 0.0         # wall time from that tick to the last result
         self.result = None
         self.check_requested = False  # the last result's solve call asked to check a claim
-
-    def new_graph(self):
-        """A new graph has its own speed: measure again."""
-        self.ms_per_iteration = None
-        self.changed()
 
     @property
     def limit(self):
@@ -109,6 +114,11 @@ class Settle:
         """Settled or given up: nothing to do until something changes."""
         return self.settled or self.gave_up
 
+    @property
+    def runs_long(self):
+        """Still settling after LONG_WAIT_MS of the artist's wait."""
+        return not self.at_rest and self.waited_ms >= LONG_WAIT_MS
+
     def budget_ms(self, moving, now):
         """This tick's time budget (see the module's docstring)."""
         gap = 0.0 if self.last_tick_end is None else (now - self.last_tick_end) * 1e3
@@ -117,7 +127,11 @@ class Settle:
 
     # ---------------------------------------------------------------- one tick
 
-    def tick(self, solve, moving):
+    def tick(self, solve, moving, system=None):
+        """`system`: what the solver iterates on (session.Binding.system); another than the
+        last tick's drops the speed measured on that one."""
+        if system != self.system:
+            self.system, self.ms_per_iteration = system, None
         now = self.clock()
         if self.started is None:
             self.started = now
@@ -131,7 +145,9 @@ class Settle:
             result = solve(n, check)
             ms = (self.clock() - t0) * 1e3
             if not getattr(result, "claim_checks", 0):   # a check's time is not an iteration's
-                self.ms_per_iteration = ms / max(1, int(result.iterations))
+                # (nor is a factorization the call made first, after new constraints)
+                iterating = ms - float(getattr(result, "factor_ms", 0.0))
+                self.ms_per_iteration = max(iterating, 0.0) / max(1, int(result.iterations))
             spent += ms
             self.iterations += int(result.iterations)
             self.solve_ms += ms

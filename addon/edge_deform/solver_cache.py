@@ -45,7 +45,7 @@ def sync(binding, inputs, owner):
 def plain(exc, radius, connected):
     """The error to report for the core's ValueError `exc`."""
     if radius is not None and isinstance(exc, native.get().NoFreeVertexError):
-        return Refused(proportional.refusal(radius, connected))
+        return proportional.NothingFree(radius, connected)
     return exc
 
 

@@ -59,7 +59,35 @@ def test_defaults():
     ob, *_ = plane()
     s = bpy.data.objects.new("fresh", None).edge_deform
     assert s.proportional is False and s.proportional_connected is False
-    assert s.proportional_radius == 1.0, s.proportional_radius
+    assert s.proportional_radius == 0.0, s.proportional_radius   # none chosen yet
+
+
+def test_first_radius_fits_the_object():
+    """Record 0066: Proportional turned on with no radius chosen gives a quarter of the
+    object's largest side (a 2-unit and a 200-unit plane alike), kept from then on; a
+    radius set first is kept; a file's radius of 0 while on reads as the fitted one."""
+    from edge_deform import engine
+    V, F = load("cgal_plane.off")
+    for scale in (1.6, 160.0):
+        ob = make_object("p%g" % scale, V * scale, F)
+        s = ob.edge_deform
+        s.proportional = True
+        side = float(np.ptp(V * scale, axis=0).max())
+        assert abs(s.proportional_radius - 0.25 * side) < 1e-5 * side, (
+            s.proportional_radius, side)
+        s.proportional_radius = 0.1 * side
+        s.proportional = False
+        s.proportional = True
+        assert abs(s.proportional_radius - 0.1 * side) < 1e-5 * side, "remembered"
+    chosen = make_object("chosen", V, F).edge_deform
+    chosen.proportional_radius = 0.07
+    chosen.proportional = True
+    assert abs(chosen.proportional_radius - 0.07) < 1e-7
+    held = make_object("held", V, F)
+    held.edge_deform["proportional"] = True      # (as a file stores it, no update)
+    assert held.edge_deform.proportional_radius == 0.0
+    radius, _ = engine.region_radius(held.edge_deform)
+    assert abs(radius - 0.25 * float(np.ptp(V, axis=0).max())) < 1e-6, radius
 
 
 def test_radius_reaches_the_core():
@@ -191,7 +219,8 @@ def test_radius_that_frees_nothing_is_refused():
     lift(ctrl, 0.1 * width)
     msg = refused(bpy.ops.edge_deform.solve, "No vertex can move within", ob)
     assert "Traceback" not in msg and "roi_radius" not in msg, msg
-    assert "make the radius larger" in msg, msg
+    assert "make the Radius larger" in msg and "Static and Region" in msg, msg
+    assert "Wheel" not in msg and "(O)" not in msg, "keys of a tool that is not running"
 
 
 def test_static_covering_the_region_is_refused():
@@ -202,7 +231,8 @@ def test_static_covering_the_region_is_refused():
     ob.edge_deform.static_group = "S"
     lift(ctrl, 0.1 * width)
     msg = refused(bpy.ops.edge_deform.solve, "Static holds them", ob)
-    assert "make the radius larger" in msg, msg
+    assert "make the Radius larger" in msg and "Static and Region" in msg, msg
+    assert "Wheel" not in msg and "(O)" not in msg, "keys of a tool that is not running"
 
 
 def test_frame_change_and_playback_read_the_radius():
@@ -230,8 +260,8 @@ def test_frame_change_and_playback_read_the_radius():
 
 
 if __name__ == "__main__":
-    run([test_defaults, test_radius_reaches_the_core, test_radius_overrides_the_region_group,
-         test_connected_only, test_the_region_is_blenders_proportional_editing,
+    run([test_defaults, test_first_radius_fits_the_object, test_radius_reaches_the_core,
+         test_radius_overrides_the_region_group, test_connected_only, test_the_region_is_blenders_proportional_editing,
          test_radius_that_frees_nothing_is_refused,
          test_static_covering_the_region_is_refused,
          test_frame_change_and_playback_read_the_radius])

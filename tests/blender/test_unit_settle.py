@@ -194,6 +194,56 @@ def test_a_claim_check_does_not_count_as_slow_iterations():
     assert s.ms_per_iteration == speed
 
 
+def test_a_new_system_is_measured_before_a_tick_is_sized():
+    """Settled on a small region (0.05 ms an iteration), then the whole mesh (24 ms: O
+    off, record 0067): the first call on the new system asks for LEAST_ITERATIONS, and no
+    tick iterates past its cap; before, it asked for 400 / 0.05 iterations (the limit)."""
+    clock = Clock()
+    s = settle.Settle(clock=clock)
+    region = Solver(clock, ms_per_iteration=0.05)
+    s.tick(region, moving=False, system=1)
+    s.tick(region, moving=False, system=1)
+    assert s.ms_per_iteration == pytest.approx(0.05)
+    whole = Solver(clock, ms_per_iteration=24.0)
+    clock.now += 1.0                     # a slow redraw: the tick may use its cap
+    s.changed()
+    start = clock.now
+    s.tick(whole, moving=False, system=2)
+    assert whole.calls[0] == settle.LEAST_ITERATIONS, whole.calls
+    assert (clock.now - start) * 1e3 <= settle.SETTLING_CAP_MS + 1e-9
+    assert s.ms_per_iteration == pytest.approx(24.0)
+    s.tick(Solver(clock, ms_per_iteration=24.0), moving=False, system=2)   # same system
+    assert s.ms_per_iteration == pytest.approx(24.0)
+
+
+def test_a_factorization_is_not_an_iterations_time():
+    """The core factors lazily, in the first solve after new constraints (factor_ms): that
+    call's speed is its iterations' alone, so the next call is not sized too small."""
+    clock = Clock()
+    s = settle.Settle(clock=clock)
+
+    def first(n, check_claims):
+        clock.now += (200.0 + n * 1.0) / 1e3
+        return SimpleNamespace(iterations=n, converged=False, distance_estimate=0.01,
+                               factor_ms=200.0)
+    s.tick(first, moving=True, system=1)
+    assert s.ms_per_iteration == pytest.approx(1.0)
+
+
+def test_runs_long_after_the_long_wait():
+    clock = Clock()
+    s = settle.Settle(clock=clock)
+    solver = Solver(clock, ms_per_iteration=10.0)
+    s.tick(solver, moving=False)
+    assert not s.runs_long
+    while s.waited_ms < settle.LONG_WAIT_MS:
+        clock.now += 0.5
+        s.tick(solver, moving=False)
+    assert s.runs_long
+    s.changed()
+    assert not s.runs_long
+
+
 def test_give_up_at_the_limit_and_say_so():
     clock = Clock()
     s = settle.Settle(limit=50, clock=clock)
@@ -266,9 +316,9 @@ def _legal(go, state, event):
 def test_grab_transitions():
     G, E = states.Grab, states.GrabEvent
     go = states.grab_next
-    assert go(G.WAITING, E.ENTERED) == G.DRAGGING
+    assert go(G.WAITING, E.STARTED) == G.DRAGGING
     with pytest.raises(states.IllegalTransition):
-        go(G.WAITING, E.MOVED)            # before the pointer is in the view: nothing
+        go(G.WAITING, E.MOVED)            # before the pointer moved in the view: nothing
     assert go(G.DRAGGING, E.ITERATED) == G.SETTLING
     assert go(G.SETTLING, E.SETTLED) == G.AT_REST
     assert go(G.SETTLING, E.MOVED) == G.DRAGGING

@@ -116,6 +116,17 @@ def running():
     return modal_tool.running_tool()
 
 
+def at_rest():
+    """The running tool has settled or stopped (nothing to do until something changes)."""
+    return running() is not None and running().settle.at_rest
+
+
+def dragged_at_rest():
+    """Grab at rest after the pointer moved (not on the press's position)."""
+    return (at_rest() and running().settle.iterations > 0
+            and np.abs(running().delta).max() > 0)
+
+
 def keyed_lift(controller, dz, last):
     """Key `controller` where it is on frame 1 and lifted by `dz` on frame `last`; the
     scene plays frames 1 to `last`. Returns its height on frame 1."""

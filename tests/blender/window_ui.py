@@ -116,6 +116,31 @@ def grab_from_the_panel(ob):
     yield
 
 
+def live_from_the_panel(ob):
+    """Make `ob` active and start Live Deform from the panel's button, as an artist does;
+    the pointer then rests at the view's centre."""
+    activate(ob)
+    event('MOUSEMOVE', at=center())
+    yield
+    yield from press_button("bpy.ops.edge_deform.live(")
+    yield from until(lambda: running() is not None, 60)
+    assert running() is not None, "the panel's Live Deform did not start Live"
+    event('MOUSEMOVE', at=center())
+    yield
+
+
+def solve_and_bake(frames):
+    """The panel's Solve, then F3 "bake frames" (the scene's range, `frames` frames), each
+    waited for until it reports."""
+    from helpers import Told
+    with Told() as told:
+        yield from press_button("bpy.ops.edge_deform.solve(", columns=(LEFT,))
+        yield from until(lambda: told.has('INFO', "Solved"), 60)
+        yield from f3("bake frames")
+        yield from until(lambda: told.has('INFO', "Baked %d frames" % frames), 120)
+    assert told.has('INFO', "Baked %d frames" % frames), told.messages
+
+
 def sidebar_sections(sections, handle, after_setup=lambda: None):
     """The steps of a window test made of sections: each runs on a fresh scene (setup(),
     its handle's indices put in `handle[0]`, then `after_setup()`) with the Edge Deform tab
