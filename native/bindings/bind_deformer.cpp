@@ -3,7 +3,7 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
-#include "edgedeform/deformer.h"
+#include "deformer/deformer.h"
 #include "gil.h"
 #include "numpy_convert.h"
 #include "scalar_convert.h"

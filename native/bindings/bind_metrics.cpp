@@ -1,6 +1,6 @@
 #include <pybind11/stl.h>
 
-#include "edgedeform/metrics.h"
+#include "local_fit/metrics.h"
 #include "gil.h"
 #include "numpy_convert.h"
 #include "typed_args.h"

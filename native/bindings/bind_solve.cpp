@@ -10,8 +10,8 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
-#include "edgedeform/deformer.h"
-#include "edgedeform/errors.h"
+#include "deformer/deformer.h"
+#include "base/errors.h"
 #include "gil.h"
 #include "numpy_convert.h"
 #include "scalar_convert.h"

@@ -1,9 +1,9 @@
 // The compiled part of the edgedeform package: edgedeform._core.
 #include <pybind11/pybind11.h>
 
-#include "edgedeform/build_info.h"
-#include "edgedeform/serial_blas.h"
-#include "edgedeform/errors.h"
+#include "linear_algebra/build_info.h"
+#include "base/serial_blas.h"
+#include "base/errors.h"
 
 namespace py = pybind11;
 

@@ -7,7 +7,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
-#include "edgedeform/types.h"
+#include "base/types.h"
 
 namespace edgedeform::bindings {
 

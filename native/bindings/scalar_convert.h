@@ -10,7 +10,7 @@
 
 #include <pybind11/pybind11.h>
 
-#include "edgedeform/solve_types.h"
+#include "base/solve_types.h"
 
 namespace edgedeform::bindings {
 

@@ -3,10 +3,10 @@
 // and `part`, which also pins a band of three rows across (a handle group added).
 #pragma once
 
-#include "edgedeform/constrained_system.h"
-#include "edgedeform/edge_topology.h"
-#include "edgedeform/mesh_checks.h"
-#include "edgedeform/node_graph.h"
+#include "system/constrained_system.h"
+#include "mesh/edge_topology.h"
+#include "mesh/mesh_checks.h"
+#include "mesh/node_graph.h"
 #include "test_meshes.h"
 
 namespace edgedeform::test {

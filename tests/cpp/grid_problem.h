@@ -6,8 +6,8 @@
 #include <memory>
 
 #include "constrained_grid.h"
-#include "edgedeform/fixed_point_problem.h"
-#include "edgedeform/sparse_cholesky.h"
+#include "strategies/fixed_point_problem.h"
+#include "linear_algebra/sparse_cholesky.h"
 
 namespace edgedeform::test {
 

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "edgedeform/anderson.h"
+#include "strategies/anderson.h"
 #include "linear_map.h"
 
 using namespace edgedeform;

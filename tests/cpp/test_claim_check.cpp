@@ -1,8 +1,8 @@
 // claim_check: Arnoldi's largest Ritz modulus finds a slow mode that a residual hides.
 #include <gtest/gtest.h>
 
-#include "edgedeform/claim_check.h"
-#include "edgedeform/convergence.h"
+#include "strategies/claim_check.h"
+#include "strategies/convergence.h"
 
 using namespace edgedeform;
 

@@ -6,9 +6,9 @@
 #include <Eigen/Dense>
 #include <random>
 
-#include "edgedeform/constrained_system.h"
-#include "edgedeform/stiffness.h"
-#include "edgedeform/mesh_checks.h"
+#include "system/constrained_system.h"
+#include "mesh/stiffness.h"
+#include "mesh/mesh_checks.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "edgedeform/convergence.h"
+#include "strategies/convergence.h"
 #include "linear_map.h"
 
 using namespace edgedeform;

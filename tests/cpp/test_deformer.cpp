@@ -2,8 +2,8 @@
 
 #include <Eigen/Geometry>
 
-#include "edgedeform/deformer.h"
-#include "edgedeform/errors.h"
+#include "deformer/deformer.h"
+#include "base/errors.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

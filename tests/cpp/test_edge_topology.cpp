@@ -3,7 +3,7 @@
 #include <utility>
 #include <vector>
 
-#include "edgedeform/edge_topology.h"
+#include "mesh/edge_topology.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

@@ -6,8 +6,8 @@
 #include <string>
 
 #include "constrained_grid.h"
-#include "edgedeform/factor_cache.h"
-#include "edgedeform/operator_cache.h"
+#include "system/factor_cache.h"
+#include "system/operator_cache.h"
 
 using namespace edgedeform;
 

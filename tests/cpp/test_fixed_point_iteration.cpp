@@ -7,9 +7,9 @@
 
 #include <memory>
 
-#include "edgedeform/convergence.h"
-#include "edgedeform/errors.h"
-#include "edgedeform/fixed_point_iteration.h"
+#include "strategies/convergence.h"
+#include "base/errors.h"
+#include "strategies/fixed_point_iteration.h"
 #include "grid_problem.h"
 
 using namespace edgedeform;

@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "edgedeform/deformer.h"
-#include "edgedeform/mesh_checks.h"
+#include "deformer/deformer.h"
+#include "mesh/mesh_checks.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

@@ -2,7 +2,7 @@
 // restart keeps (the last positions when asked and still the free vertices', else rest).
 #include <gtest/gtest.h>
 
-#include "edgedeform/iteration_state.h"
+#include "strategies/iteration_state.h"
 
 using namespace edgedeform;
 

@@ -2,10 +2,10 @@
 
 #include <Eigen/Dense>
 
-#include "edgedeform/constrained_system.h"
-#include "edgedeform/edge_topology.h"
-#include "edgedeform/local_fit_derivative.h"
-#include "edgedeform/node_graph.h"
+#include "system/constrained_system.h"
+#include "mesh/edge_topology.h"
+#include "local_fit/local_fit_derivative.h"
+#include "mesh/node_graph.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

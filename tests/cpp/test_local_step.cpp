@@ -2,8 +2,8 @@
 
 #include <Eigen/Geometry>
 
-#include "edgedeform/local_step.h"
-#include "edgedeform/node_graph.h"
+#include "local_fit/local_step.h"
+#include "mesh/node_graph.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

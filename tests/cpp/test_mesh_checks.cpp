@@ -4,7 +4,7 @@
 #include <limits>
 #include <string>
 
-#include "edgedeform/mesh_checks.h"
+#include "mesh/mesh_checks.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

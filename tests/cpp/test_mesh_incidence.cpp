@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <vector>
 
-#include "edgedeform/edge_topology.h"
-#include "edgedeform/mesh_incidence.h"
+#include "mesh/edge_topology.h"
+#include "mesh/mesh_incidence.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

@@ -2,7 +2,7 @@
 
 #include <Eigen/Geometry>
 
-#include "edgedeform/metrics.h"
+#include "local_fit/metrics.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

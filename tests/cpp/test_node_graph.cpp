@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "edgedeform/cotangent.h"
-#include "edgedeform/node_graph.h"
+#include "mesh/cotangent.h"
+#include "mesh/node_graph.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

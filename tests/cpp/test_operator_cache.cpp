@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "constrained_grid.h"
-#include "edgedeform/operator_cache.h"
+#include "system/operator_cache.h"
 
 using namespace edgedeform;
 

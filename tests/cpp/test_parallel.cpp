@@ -4,7 +4,7 @@
 #include <thread>
 #include <vector>
 
-#include "edgedeform/parallel.h"
+#include "base/parallel.h"
 
 using edgedeform::parallel_for;
 

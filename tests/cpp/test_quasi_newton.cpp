@@ -4,10 +4,10 @@
 // one, and an interrupt throws before the next iteration.
 #include <gtest/gtest.h>
 
-#include "edgedeform/convergence.h"
-#include "edgedeform/errors.h"
-#include "edgedeform/fixed_point_iteration.h"
-#include "edgedeform/quasi_newton.h"
+#include "strategies/convergence.h"
+#include "base/errors.h"
+#include "strategies/fixed_point_iteration.h"
+#include "strategies/quasi_newton.h"
 #include "grid_problem.h"
 
 using namespace edgedeform;

@@ -7,11 +7,11 @@
 #include <limits>
 #include <random>
 
-#include "edgedeform/constrained_system.h"
-#include "edgedeform/edge_topology.h"
-#include "edgedeform/errors.h"
-#include "edgedeform/mesh_checks.h"
-#include "edgedeform/region_by_distance.h"
+#include "system/constrained_system.h"
+#include "mesh/edge_topology.h"
+#include "base/errors.h"
+#include "mesh/mesh_checks.h"
+#include "mesh/region_by_distance.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

@@ -6,10 +6,10 @@
 #include <random>
 #include <vector>
 
-#include "edgedeform/constrained_system.h"
-#include "edgedeform/edge_topology.h"
-#include "edgedeform/mesh_checks.h"
-#include "edgedeform/region_graph.h"
+#include "system/constrained_system.h"
+#include "mesh/edge_topology.h"
+#include "mesh/mesh_checks.h"
+#include "mesh/region_graph.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

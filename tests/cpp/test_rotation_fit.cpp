@@ -5,7 +5,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 
-#include "edgedeform/rotation_fit.h"
+#include "local_fit/rotation_fit.h"
 
 using namespace edgedeform;
 

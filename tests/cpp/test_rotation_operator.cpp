@@ -8,10 +8,10 @@
 #include <random>
 #include <stdexcept>
 
-#include "edgedeform/constrained_system.h"
-#include "edgedeform/mesh_checks.h"
-#include "edgedeform/rotation_operator.h"
-#include "edgedeform/stiffness.h"
+#include "system/constrained_system.h"
+#include "mesh/mesh_checks.h"
+#include "system/rotation_operator.h"
+#include "mesh/stiffness.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

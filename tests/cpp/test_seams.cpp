@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "edgedeform/seams.h"
+#include "mesh/seams.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "edgedeform/build_info.h"
-#include "edgedeform/serial_blas.h"
+#include "linear_algebra/build_info.h"
+#include "base/serial_blas.h"
 
 #if defined(_WIN32)
 #include <windows.h>

@@ -4,7 +4,7 @@
 
 #include <thread>
 
-#include "edgedeform/serial_openmp.h"
+#include "base/serial_openmp.h"
 
 #ifdef _OPENMP
 #include <omp.h>

@@ -6,9 +6,9 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 
-#include "edgedeform/errors.h"
-#include "edgedeform/parallel.h"
-#include "edgedeform/sparse_cholesky.h"
+#include "base/errors.h"
+#include "base/parallel.h"
+#include "linear_algebra/sparse_cholesky.h"
 
 using namespace edgedeform;
 

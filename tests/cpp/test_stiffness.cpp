@@ -2,8 +2,8 @@
 
 #include <stdexcept>
 
-#include "edgedeform/node_graph.h"
-#include "edgedeform/stiffness.h"
+#include "mesh/node_graph.h"
+#include "mesh/stiffness.h"
 #include "test_meshes.h"
 
 using namespace edgedeform;

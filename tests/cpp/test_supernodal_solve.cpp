@@ -8,8 +8,8 @@
 
 #include <Eigen/Dense>
 
-#include "edgedeform/parallel.h"
-#include "edgedeform/supernodal_solve.h"
+#include "base/parallel.h"
+#include "linear_algebra/supernodal_solve.h"
 
 using namespace edgedeform;
 

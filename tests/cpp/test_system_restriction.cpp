@@ -7,8 +7,8 @@
 #include <random>
 #include <stdexcept>
 
-#include "edgedeform/mesh_checks.h"
-#include "edgedeform/system_restriction.h"
+#include "mesh/mesh_checks.h"
+#include "system/system_restriction.h"
 #include "constrained_grid.h"
 #include "test_meshes.h"
 

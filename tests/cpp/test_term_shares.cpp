@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
-#include "edgedeform/stiffness.h"
-#include "edgedeform/term_shares.h"
+#include "mesh/stiffness.h"
+#include "local_fit/term_shares.h"
 
 using namespace edgedeform;
 

@@ -7,7 +7,7 @@
 #include <Eigen/Geometry>
 
 #include "constrained_grid.h"
-#include "edgedeform/warm_state.h"
+#include "system/warm_state.h"
 
 using namespace edgedeform;
 

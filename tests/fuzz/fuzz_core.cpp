@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "edgedeform/deformer.h"
-#include "edgedeform/errors.h"
-#include "edgedeform/metrics.h"
+#include "deformer/deformer.h"
+#include "base/errors.h"
+#include "local_fit/metrics.h"
 #include "../cpp/test_meshes.h"
 
 using namespace edgedeform;

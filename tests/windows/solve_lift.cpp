@@ -13,8 +13,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "edgedeform/build_info.h"
-#include "edgedeform/deformer.h"
+#include "linear_algebra/build_info.h"
+#include "deformer/deformer.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "edgedeform/bucket_order.h"
+#include "base/bucket_order.h"
 
 #include <cstddef>
 

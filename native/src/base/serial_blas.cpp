@@ -1,4 +1,4 @@
-#include "edgedeform/serial_blas.h"
+#include "base/serial_blas.h"
 
 #include <mutex>
 

@@ -1,4 +1,4 @@
-#include "edgedeform/serial_openmp.h"
+#include "base/serial_openmp.h"
 
 #include <mutex>
 

@@ -1,4 +1,4 @@
-#include "edgedeform/solve_types.h"
+#include "base/solve_types.h"
 
 #include <cmath>
 #include <sstream>

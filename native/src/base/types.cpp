@@ -1,4 +1,4 @@
-#include "edgedeform/types.h"
+#include "base/types.h"
 
 #include <stdexcept>
 

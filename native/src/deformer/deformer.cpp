@@ -1,4 +1,4 @@
-#include "edgedeform/deformer.h"
+#include "deformer/deformer.h"
 
 #include <chrono>
 #include <cmath>
@@ -9,14 +9,14 @@
 
 #include <Eigen/Geometry>
 
-#include "edgedeform/cotangent.h"
-#include "edgedeform/errors.h"
-#include "edgedeform/fixed_point_iteration.h"
-#include "edgedeform/local_fit_derivative.h"
-#include "edgedeform/quasi_newton.h"
-#include "edgedeform/mesh_checks.h"
-#include "edgedeform/region_graph.h"
-#include "edgedeform/stiffness.h"
+#include "mesh/cotangent.h"
+#include "base/errors.h"
+#include "strategies/fixed_point_iteration.h"
+#include "local_fit/local_fit_derivative.h"
+#include "strategies/quasi_newton.h"
+#include "mesh/mesh_checks.h"
+#include "mesh/region_graph.h"
+#include "mesh/stiffness.h"
 
 namespace edgedeform {
 

@@ -4,8 +4,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "edgedeform/deformer.h"
-#include "edgedeform/mesh_checks.h"
+#include "deformer/deformer.h"
+#include "mesh/mesh_checks.h"
 
 namespace edgedeform {
 

@@ -1,9 +1,9 @@
-#include "edgedeform/build_info.h"
+#include "linear_algebra/build_info.h"
 
 #include <Eigen/Core>
 
-#include "edgedeform/parallel.h"
-#include "edgedeform/sparse_cholesky.h"
+#include "base/parallel.h"
+#include "linear_algebra/sparse_cholesky.h"
 
 namespace edgedeform {
 

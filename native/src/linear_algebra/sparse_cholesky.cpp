@@ -1,14 +1,14 @@
-#include "edgedeform/sparse_cholesky.h"
+#include "linear_algebra/sparse_cholesky.h"
 
 #include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "edgedeform/errors.h"
-#include "edgedeform/serial_blas.h"
-#include "edgedeform/serial_openmp.h"
-#include "edgedeform/supernodal_solve.h"
+#include "base/errors.h"
+#include "base/serial_blas.h"
+#include "base/serial_openmp.h"
+#include "linear_algebra/supernodal_solve.h"
 
 #ifdef EDGEDEFORM_HAS_CHOLMOD
 #include <cholmod.h>

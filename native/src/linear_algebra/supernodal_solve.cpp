@@ -1,10 +1,10 @@
-#include "edgedeform/supernodal_solve.h"
+#include "linear_algebra/supernodal_solve.h"
 
 #include <algorithm>
 #include <stdexcept>
 #include <string>
 
-#include "edgedeform/parallel.h"
+#include "base/parallel.h"
 
 namespace edgedeform {
 

@@ -1,10 +1,10 @@
-#include "edgedeform/local_fit_derivative.h"
+#include "local_fit/local_fit_derivative.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
-#include "edgedeform/parallel.h"
-#include "edgedeform/rotation_fit.h"
+#include "base/parallel.h"
+#include "local_fit/rotation_fit.h"
 
 namespace edgedeform {
 

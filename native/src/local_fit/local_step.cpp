@@ -1,13 +1,13 @@
-#include "edgedeform/local_step.h"
+#include "local_fit/local_step.h"
 
 #include <algorithm>
 #include <cmath>
 
 
-#include "edgedeform/lanes.h"
-#include "edgedeform/term_shares.h"
-#include "edgedeform/node_graph.h"
-#include "edgedeform/parallel.h"
+#include "local_fit/lanes.h"
+#include "local_fit/term_shares.h"
+#include "mesh/node_graph.h"
+#include "base/parallel.h"
 
 namespace edgedeform {
 

@@ -1,4 +1,4 @@
-#include "edgedeform/metrics.h"
+#include "local_fit/metrics.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -7,10 +7,10 @@
 
 #include <Eigen/Geometry>
 
-#include "edgedeform/edge_topology.h"
-#include "edgedeform/local_step.h"
-#include "edgedeform/mesh_checks.h"
-#include "edgedeform/node_graph.h"
+#include "mesh/edge_topology.h"
+#include "local_fit/local_step.h"
+#include "mesh/mesh_checks.h"
+#include "mesh/node_graph.h"
 
 namespace edgedeform {
 

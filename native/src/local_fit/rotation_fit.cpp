@@ -1,11 +1,11 @@
-#include "edgedeform/rotation_fit.h"
+#include "local_fit/rotation_fit.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include <Eigen/Geometry>
 
-#include "edgedeform/lanes.h"
+#include "local_fit/lanes.h"
 
 namespace edgedeform {
 

@@ -1,9 +1,9 @@
-#include "edgedeform/edge_topology.h"
+#include "mesh/edge_topology.h"
 
 #include <algorithm>
 #include <vector>
 
-#include "edgedeform/bucket_order.h"
+#include "base/bucket_order.h"
 
 namespace edgedeform {
 

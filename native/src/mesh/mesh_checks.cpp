@@ -1,4 +1,4 @@
-#include "edgedeform/mesh_checks.h"
+#include "mesh/mesh_checks.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "edgedeform/cotangent.h"
+#include "mesh/cotangent.h"
 
 namespace edgedeform {
 

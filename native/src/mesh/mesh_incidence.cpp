@@ -1,9 +1,9 @@
-#include "edgedeform/mesh_incidence.h"
+#include "mesh/mesh_incidence.h"
 
 #include <algorithm>
 #include <utility>
 
-#include "edgedeform/bucket_order.h"
+#include "base/bucket_order.h"
 
 namespace edgedeform {
 

@@ -1,10 +1,10 @@
-#include "edgedeform/node_graph.h"
+#include "mesh/node_graph.h"
 
 #include <algorithm>
 #include <vector>
 
-#include "edgedeform/bucket_order.h"
-#include "edgedeform/cotangent.h"
+#include "base/bucket_order.h"
+#include "mesh/cotangent.h"
 
 namespace edgedeform {
 

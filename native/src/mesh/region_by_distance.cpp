@@ -1,4 +1,4 @@
-#include "edgedeform/region_by_distance.h"
+#include "mesh/region_by_distance.h"
 
 #include <algorithm>
 #include <array>
@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "edgedeform/parallel.h"
+#include "base/parallel.h"
 
 namespace edgedeform {
 

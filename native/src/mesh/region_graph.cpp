@@ -1,8 +1,8 @@
-#include "edgedeform/region_graph.h"
+#include "mesh/region_graph.h"
 
 #include <algorithm>
 
-#include "edgedeform/edge_topology.h"
+#include "mesh/edge_topology.h"
 
 namespace edgedeform {
 

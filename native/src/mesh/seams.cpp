@@ -1,11 +1,11 @@
-#include "edgedeform/seams.h"
+#include "mesh/seams.h"
 
 #include <algorithm>
 #include <numeric>
 #include <set>
 #include <sstream>
 
-#include "edgedeform/mesh_checks.h"
+#include "mesh/mesh_checks.h"
 
 namespace edgedeform {
 

@@ -1,4 +1,4 @@
-#include "edgedeform/stiffness.h"
+#include "mesh/stiffness.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "edgedeform/anderson.h"
+#include "strategies/anderson.h"
 
 #include <algorithm>
 #include <cmath>

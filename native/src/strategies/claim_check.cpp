@@ -1,4 +1,4 @@
-#include "edgedeform/claim_check.h"
+#include "strategies/claim_check.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "edgedeform/errors.h"
+#include "base/errors.h"
 
 namespace edgedeform {
 

@@ -1,4 +1,4 @@
-#include "edgedeform/convergence.h"
+#include "strategies/convergence.h"
 
 #include <algorithm>
 #include <cmath>

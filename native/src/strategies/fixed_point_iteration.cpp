@@ -1,11 +1,11 @@
-#include "edgedeform/fixed_point_iteration.h"
+#include "strategies/fixed_point_iteration.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "edgedeform/claim_check.h"
-#include "edgedeform/errors.h"
+#include "strategies/claim_check.h"
+#include "base/errors.h"
 
 namespace edgedeform {
 

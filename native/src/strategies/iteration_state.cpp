@@ -1,4 +1,4 @@
-#include "edgedeform/iteration_state.h"
+#include "strategies/iteration_state.h"
 
 namespace edgedeform {
 

@@ -1,12 +1,12 @@
-#include "edgedeform/quasi_newton.h"
+#include "strategies/quasi_newton.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
 
-#include "edgedeform/claim_check.h"
-#include "edgedeform/errors.h"
+#include "strategies/claim_check.h"
+#include "base/errors.h"
 
 namespace edgedeform {
 

@@ -1,7 +1,7 @@
-#include "edgedeform/constrained_system.h"
+#include "system/constrained_system.h"
 
-#include "edgedeform/stiffness.h"
-#include "edgedeform/term_shares.h"
+#include "mesh/stiffness.h"
+#include "local_fit/term_shares.h"
 
 #include <algorithm>
 #include <deque>
@@ -11,9 +11,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "edgedeform/errors.h"
-#include "edgedeform/mesh_checks.h"
-#include "edgedeform/region_by_distance.h"
+#include "base/errors.h"
+#include "mesh/mesh_checks.h"
+#include "mesh/region_by_distance.h"
 
 namespace edgedeform {
 

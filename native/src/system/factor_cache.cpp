@@ -1,4 +1,4 @@
-#include "edgedeform/factor_cache.h"
+#include "system/factor_cache.h"
 
 #include <utility>
 

@@ -1,4 +1,4 @@
-#include "edgedeform/fixed_point_linearization.h"
+#include "system/fixed_point_linearization.h"
 
 namespace edgedeform {
 

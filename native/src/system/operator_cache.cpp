@@ -1,8 +1,8 @@
-#include "edgedeform/operator_cache.h"
+#include "system/operator_cache.h"
 
 #include <utility>
 
-#include "edgedeform/system_restriction.h"
+#include "system/system_restriction.h"
 
 namespace edgedeform {
 

@@ -1,11 +1,11 @@
-#include "edgedeform/rotation_operator.h"
+#include "system/rotation_operator.h"
 
 #include <stdexcept>
 
 #include <Eigen/Geometry>
 #include <string>
 
-#include "edgedeform/parallel.h"
+#include "base/parallel.h"
 
 namespace edgedeform {
 

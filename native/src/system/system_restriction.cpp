@@ -1,4 +1,4 @@
-#include "edgedeform/system_restriction.h"
+#include "system/system_restriction.h"
 
 #include <algorithm>
 #include <stdexcept>

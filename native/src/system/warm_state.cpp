@@ -1,4 +1,4 @@
-#include "edgedeform/warm_state.h"
+#include "system/warm_state.h"
 
 #include <utility>
 

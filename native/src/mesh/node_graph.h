@@ -8,8 +8,8 @@
 
 #include <vector>
 
-#include "edgedeform/edge_topology.h"
-#include "edgedeform/types.h"
+#include "mesh/edge_topology.h"
+#include "base/types.h"
 
 namespace edgedeform {
 

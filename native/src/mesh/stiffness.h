@@ -1,7 +1,7 @@
 // Per-vertex stiffness lambda in [0,1] mapped to the nodes (paper §3.2.4).
 #pragma once
 
-#include "edgedeform/node_graph.h"
+#include "mesh/node_graph.h"
 
 namespace edgedeform {
 

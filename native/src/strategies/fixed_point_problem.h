@@ -7,9 +7,9 @@
 
 #include <Eigen/Core>
 
-#include "edgedeform/fixed_point_linearization.h"
-#include "edgedeform/local_step.h"
-#include "edgedeform/types.h"
+#include "system/fixed_point_linearization.h"
+#include "local_fit/local_step.h"
+#include "base/types.h"
 
 namespace edgedeform {
 

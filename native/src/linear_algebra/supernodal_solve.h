@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "edgedeform/types.h"
+#include "base/types.h"
 
 namespace edgedeform {
 

@@ -13,7 +13,7 @@
 
 #include <memory>
 
-#include "edgedeform/constrained_system.h"
+#include "system/constrained_system.h"
 
 namespace edgedeform {
 

@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "edgedeform/types.h"
-#include "edgedeform/mesh_incidence.h"
+#include "base/types.h"
+#include "mesh/mesh_incidence.h"
 
 namespace edgedeform {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "edgedeform/types.h"
+#include "base/types.h"
 
 namespace edgedeform {
 

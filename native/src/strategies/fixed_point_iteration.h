@@ -5,11 +5,11 @@
 
 #include <Eigen/Core>
 
-#include "edgedeform/anderson.h"
-#include "edgedeform/convergence.h"
-#include "edgedeform/fixed_point_problem.h"
-#include "edgedeform/iteration_point.h"
-#include "edgedeform/solve_types.h"
+#include "strategies/anderson.h"
+#include "strategies/convergence.h"
+#include "strategies/fixed_point_problem.h"
+#include "base/iteration_point.h"
+#include "base/solve_types.h"
 
 namespace edgedeform {
 

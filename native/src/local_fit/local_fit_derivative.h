@@ -18,7 +18,7 @@
 
 #include <vector>
 
-#include "edgedeform/local_step.h"
+#include "local_fit/local_step.h"
 
 namespace edgedeform {
 

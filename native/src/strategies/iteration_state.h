@@ -6,10 +6,10 @@
 
 #include <vector>
 
-#include "edgedeform/fixed_point_iteration.h"
-#include "edgedeform/iteration_point.h"
-#include "edgedeform/quasi_newton.h"
-#include "edgedeform/types.h"
+#include "strategies/fixed_point_iteration.h"
+#include "base/iteration_point.h"
+#include "strategies/quasi_newton.h"
+#include "base/types.h"
 
 namespace edgedeform {
 

@@ -9,8 +9,8 @@
 
 #include <vector>
 
-#include "edgedeform/mesh_incidence.h"
-#include "edgedeform/node_graph.h"
+#include "mesh/mesh_incidence.h"
+#include "mesh/node_graph.h"
 
 namespace edgedeform {
 

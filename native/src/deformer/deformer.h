@@ -13,18 +13,18 @@
 #include <mutex>
 #include <vector>
 
-#include "edgedeform/constrained_system.h"
-#include "edgedeform/edge_topology.h"
-#include "edgedeform/mesh_incidence.h"
-#include "edgedeform/factor_cache.h"
-#include "edgedeform/iteration_state.h"
-#include "edgedeform/node_graph.h"
-#include "edgedeform/operator_cache.h"
-#include "edgedeform/seams.h"
-#include "edgedeform/solve_types.h"
-#include "edgedeform/sparse_cholesky.h"
-#include "edgedeform/stiffness.h"
-#include "edgedeform/warm_state.h"
+#include "system/constrained_system.h"
+#include "mesh/edge_topology.h"
+#include "mesh/mesh_incidence.h"
+#include "system/factor_cache.h"
+#include "strategies/iteration_state.h"
+#include "mesh/node_graph.h"
+#include "system/operator_cache.h"
+#include "mesh/seams.h"
+#include "base/solve_types.h"
+#include "linear_algebra/sparse_cholesky.h"
+#include "mesh/stiffness.h"
+#include "system/warm_state.h"
 
 namespace edgedeform {
 

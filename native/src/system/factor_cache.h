@@ -13,8 +13,8 @@
 
 #include <vector>
 
-#include "edgedeform/constrained_system.h"
-#include "edgedeform/sparse_cholesky.h"
+#include "system/constrained_system.h"
+#include "linear_algebra/sparse_cholesky.h"
 
 namespace edgedeform {
 

@@ -11,7 +11,7 @@
 // sparse products of a fresh assembly.
 #pragma once
 
-#include "edgedeform/constrained_system.h"
+#include "system/constrained_system.h"
 
 namespace edgedeform {
 

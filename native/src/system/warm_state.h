@@ -13,8 +13,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "edgedeform/constrained_system.h"
-#include "edgedeform/local_step.h"
+#include "system/constrained_system.h"
+#include "local_fit/local_step.h"
 
 namespace edgedeform {
 

@@ -5,8 +5,8 @@
 // rotations. Vectors are free-vertex displacements, (#free x 3).
 #pragma once
 
-#include "edgedeform/constrained_system.h"
-#include "edgedeform/local_fit_derivative.h"
+#include "system/constrained_system.h"
+#include "local_fit/local_fit_derivative.h"
 
 namespace edgedeform {
 

@@ -14,11 +14,11 @@
 #include <string>
 #include <vector>
 
-#include "edgedeform/local_step.h"
-#include "edgedeform/node_graph.h"
-#include "edgedeform/region_graph.h"
-#include "edgedeform/rotation_operator.h"
-#include "edgedeform/mesh_incidence.h"
+#include "local_fit/local_step.h"
+#include "mesh/node_graph.h"
+#include "mesh/region_graph.h"
+#include "system/rotation_operator.h"
+#include "mesh/mesh_incidence.h"
 
 namespace edgedeform {
 

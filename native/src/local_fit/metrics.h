@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "edgedeform/types.h"
+#include "base/types.h"
 
 namespace edgedeform {
 

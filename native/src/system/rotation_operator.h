@@ -11,8 +11,8 @@
 
 #include <vector>
 
-#include "edgedeform/term_shares.h"
-#include "edgedeform/types.h"
+#include "local_fit/term_shares.h"
+#include "base/types.h"
 
 namespace edgedeform {
 

@@ -6,7 +6,7 @@
 #include <memory>
 #include <vector>
 
-#include "edgedeform/types.h"
+#include "base/types.h"
 
 namespace edgedeform {
 

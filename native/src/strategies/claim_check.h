@@ -9,9 +9,9 @@
 
 #include <Eigen/Core>
 
-#include "edgedeform/convergence.h"
-#include "edgedeform/fixed_point_problem.h"
-#include "edgedeform/solve_types.h"
+#include "strategies/convergence.h"
+#include "strategies/fixed_point_problem.h"
+#include "base/solve_types.h"
 
 namespace edgedeform {
 

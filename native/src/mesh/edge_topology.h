@@ -1,7 +1,7 @@
 // Unique undirected edges of a triangle mesh, and which edge lies opposite each corner.
 #pragma once
 
-#include "edgedeform/types.h"
+#include "base/types.h"
 
 namespace edgedeform {
 

@@ -3,8 +3,8 @@
 
 #include <vector>
 
-#include "edgedeform/rotation_fit.h"
-#include "edgedeform/types.h"
+#include "local_fit/rotation_fit.h"
+#include "base/types.h"
 
 namespace edgedeform {
 
