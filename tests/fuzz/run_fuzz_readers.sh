@@ -25,6 +25,9 @@ mkdir -p "$work/corpus"
 readers="$source_dir/tests/fuzz/readers"
 export PYTHONPATH="$build_dir/python:$readers:$source_dir/tests/python"
 "$venv/bin/python" "$readers/seeds.py" ".$ext" "$work/seeds"
-# New inputs go to the working corpus; the seeds and the kept findings are only read.
-"$venv/bin/python" "$readers/fuzz_readers.py" ".$ext" "$work/corpus" "$work/seeds" "$readers/findings/$ext" \
+# New inputs go to the working corpus; the seeds and the kept findings are only read. A
+# format without findings yet has no folder in git (libFuzzer stops on a missing corpus).
+corpora=("$work/corpus" "$work/seeds")
+[ -d "$readers/findings/$ext" ] && corpora+=("$readers/findings/$ext")
+"$venv/bin/python" "$readers/fuzz_readers.py" ".$ext" "${corpora[@]}" \
   -max_total_time="$seconds" -timeout=30 -artifact_prefix="$work/" -print_final_stats=1
