@@ -15,6 +15,7 @@
 
 import argparse
 import importlib
+import importlib.machinery
 import io
 import os
 import re
@@ -140,9 +141,11 @@ def install(bpy, zip_path):
     wheel_site = os.path.join(ext_dir, ".local")
     assert os.path.realpath(edgedeform.__file__).startswith(wheel_site), (
         "edgedeform should come from the extension's wheel, not " + edgedeform.__file__)
-    # Blender picked the wheel of its own Python out of the several the zip holds.
-    suffix = ".cpython-%d%d-" % sys.version_info[:2]
-    assert suffix in edgedeform._core.__file__, edgedeform._core.__file__
+    # Blender picked the wheel of its own Python out of the several the zip holds: the
+    # module carries this Python's own tagged suffix (the first one the import system
+    # tries: .cpython-311-x86_64-linux-gnu.so, .cp311-win_amd64.pyd, .cpython-311-darwin.so).
+    suffix = importlib.machinery.EXTENSION_SUFFIXES[0]
+    assert edgedeform._core.__file__.endswith(suffix), (edgedeform._core.__file__, suffix)
     assert hasattr(bpy.types.Object, "edge_deform")
     print("bpy %s: installed %s; edgedeform %s from %s" % (
         bpy.app.version_string, module.__file__, edgedeform.__version__,
