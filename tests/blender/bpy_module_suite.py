@@ -51,13 +51,15 @@ def private_user_folders(home):
                                                                          "__init__.py"))]
 
 
-# Per extension platform: how its wheels end, its module's file name, whether CHOLMOD travels
-# inside (Linux: auditwheel; Windows and macOS use the Eigen solver, decision record 0045).
+# Per extension platform: how its wheels end, its module's file name, and the file that shows
+# CHOLMOD's BLAS travels inside (Linux: libcholmod and OpenBLAS, by auditwheel; Windows:
+# CHOLMOD linked into the module, OpenBLAS's DLL beside it, decision record 0063; macOS uses
+# the Eigen solver, record 0045).
 PLATFORMS = {
-    "linux-x64": (("_x86_64.whl",), ".so", True),
-    "windows-x64": (("-win_amd64.whl",), ".pyd", False),
-    "macos-x64": (("_x86_64.whl", "_universal2.whl"), ".so", False),
-    "macos-arm64": (("_arm64.whl", "_universal2.whl"), ".so", False),
+    "linux-x64": (("_x86_64.whl",), ".so", "libcholmod"),
+    "windows-x64": (("-win_amd64.whl",), ".pyd", "edgedeform/edgedeform_openblas.dll"),
+    "macos-x64": (("_x86_64.whl", "_universal2.whl"), ".so", None),
+    "macos-arm64": (("_arm64.whl", "_universal2.whl"), ".so", None),
 }
 
 
@@ -73,7 +75,7 @@ def check_contents(zip_path):
     assert not any(n.startswith("edgedeform/") or "__pycache__" in n for n in names), names
     assert len(manifest["platforms"]) == 1, "one zip per platform: %s" % manifest["platforms"]
     platform = manifest["platforms"][0]
-    endings, module_suffix, cholmod_inside = PLATFORMS[platform]
+    endings, module_suffix, cholmod_file = PLATFORMS[platform]
     wheels = sorted(n for n in names if n.startswith("wheels/") and n.endswith(".whl"))
     assert ["./" + n for n in wheels] == sorted(manifest["wheels"]), (wheels, manifest["wheels"])
     tags = [os.path.basename(w).split("-")[2] for w in wheels]
@@ -92,9 +94,9 @@ def check_contents(zip_path):
         versions = {manifest["version"], os.path.basename(name).split("-")[1],
                     ".".join(bl_info.groups())}
         assert len(versions) == 1, "manifest, wheel and bl_info versions differ: %s" % versions
-        if cholmod_inside:
-            # Self-contained: SuiteSparse and its BLAS travel in the wheel (auditwheel).
-            assert any("libcholmod" in n for n in wheel.namelist()), name + ": no CHOLMOD inside"
+        if cholmod_file:
+            # Self-contained: CHOLMOD and its BLAS travel in the wheel.
+            assert any(cholmod_file in n for n in wheel.namelist()), name + ": no CHOLMOD inside"
     assert "permissions" not in manifest, "the add-on touches no files, network or devices"
     print("%s zip holds the wheels %s, as its manifest lists" % (platform, ", ".join(tags)),
           flush=True)

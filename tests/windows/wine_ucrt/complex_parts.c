@@ -1,6 +1,6 @@
 /* The parts of a complex number, for a ucrtbase.dll that stands in front of wine's own
- * (scripts/windows_provision.py, docs/decisions/0064): wine 8 and 10 leave these UCRT functions unimplemented,
- * and a call aborts the process. SciPy's scipy.special (every SciPy with a cp313 wheel) calls
+ * (scripts/windows_provision.py, docs/decisions/0064): wine 8 and 10 leave these UCRT
+ * functions unimplemented, and a call aborts the process. SciPy's scipy.special (every SciPy with a cp313 wheel) calls
  * crealf when it loads, NumPy 2.3's FFT cimag.
  *
  * MSVC's complex types are structs of two numbers (_Fcomplex, _Dcomplex, _Lcomplex, whose long
