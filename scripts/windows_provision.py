@@ -15,6 +15,8 @@ it (CI clones afresh, as root, on the same machine), every file against its pinn
     windows_provision.py site SET        prints a folder holding SET's wheels, installed
     windows_provision.py cholmod         prints a prefix with include/, lib/libcholmod.a,
                                          lib/libedgedeform_openblas.dll.a, bin/edgedeform_openblas.dll
+    windows_provision.py zig             prints the python of a venv with PyPI's ziglang, which
+                                         the macOS link check compiles with (tests/macos)
     windows_provision.py all             all of them
     windows_provision.py cache           prints the cache folder
 
@@ -356,6 +358,29 @@ def install_wheels(wheels, target, version):
                    + [str(w) for w in wheels], check=True)
 
 
+def zig():
+    """A venv (this machine's Python) with the pinned ziglang wheel: `python -m ziglang c++`."""
+    wanted = pins("ziglang")
+    venv = cache_root() / "zig"
+    python_exe = venv / "bin" / "python"
+    stamp = stamp_of(*wanted)
+    with locked("zig"):
+        if is_current(venv, stamp):
+            return python_exe
+        wheels = fetch(wanted)
+
+        def make(tmp):
+            subprocess.run([sys.executable, "-m", "venv", str(tmp)], check=True)
+            subprocess.run([str(tmp / "bin" / "python"), "-m", "pip", "install", "-q",
+                            "--disable-pip-version-check", "--no-index", "--no-deps"]
+                           + [str(w) for w in wheels], check=True)
+
+        replace_folder(venv, make)
+        mark_current(venv, stamp)
+        log("ziglang in %s" % venv)
+    return python_exe
+
+
 # --- CHOLMOD and OpenBLAS for the cross-build ------------------------------------------------
 
 def cholmod():
@@ -426,7 +451,8 @@ def openblas_dll(wheel, prefix):
 
 def main():
     what = sys.argv[1:] or ["all"]
-    require_tools()
+    if what not in (["cache"], ["zig"]):
+        require_tools()
     if what == ["cache"]:
         print(cache_root())
     elif what[0] == "python" and len(what) == 2:
@@ -435,6 +461,8 @@ def main():
         print(site(what[1]))
     elif what == ["cholmod"]:
         print(cholmod())
+    elif what == ["zig"]:
+        print(zig())
     elif what == ["all"]:
         for version in ("3.11", "3.13"):
             print(python(version))
