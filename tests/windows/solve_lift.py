@@ -46,9 +46,10 @@ def main():
     info = ed.build_info()
     per_iteration = (r.local_ms + r.rhs_ms + r.solve_ms) / max(1, r.iterations)
     print("solve_lift.py: %s on %s %s, %d threads: %d vertices, %d iterations, energy %.17g, "
-          "factor %.0f ms, %.0f ms per iteration"
+          "factor %.0f ms (%.0f nonzeros), %.0f ms per iteration"
           % (info["solver"], platform.system(), platform.python_version(), info["threads"],
-             len(X), r.iterations, energy, r.factor_ms, per_iteration), flush=True)
+             len(X), r.iterations, energy, r.factor_ms, d.factor_nonzeros, per_iteration),
+          flush=True)
 
 
 if __name__ == "__main__":
