@@ -65,6 +65,7 @@ foreach(pair ${EDGEDEFORM_WINDOWS_PYTHON})
   target_link_libraries(_core_${tag} PRIVATE edgedeform_core ${implib})
   set_target_properties(_core_${tag} PROPERTIES PREFIX "" OUTPUT_NAME _core
     SUFFIX ".${tag}-win_amd64.pyd" LIBRARY_OUTPUT_DIRECTORY ${package})
+  edgedeform_beside_blas_dll(_core_${tag})   # a CHOLMOD build's OpenBLAS DLL, in the package
   add_custom_target(edgedeform_python_${tag} ALL
     COMMAND ${CMAKE_COMMAND} -E copy_directory ${CMAKE_CURRENT_SOURCE_DIR}/python/edgedeform ${package}
     COMMAND ${CMAKE_COMMAND} -E rm -rf ${package}/__pycache__

@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # Cross-builds edgedeform for 64-bit Windows with Debian's mingw-w64
-# (cmake/toolchains/mingw-w64-x86_64.cmake): the core with the Eigen solver (no SuiteSparse
-# for Windows is reachable here: docs/decisions/0045-windows-cross-build.md), the C++ tests,
-# the solve_lift program, and the `_core` module for python.org's CPython 3.11 and 3.13,
-# each packed as a wheel. Prints the wheels' paths, one a line.
+# (cmake/toolchains/mingw-w64-x86_64.cmake): the core, the C++ tests, the solve_lift program,
+# and the `_core` module for python.org's CPython 3.11 and 3.13, each packed as a wheel.
+# Prints the wheels' paths, one a line.
 #   scripts/build_windows.sh [build dir, default build/windows] [Python versions, default "3.11 3.13"]
-# The CPython headers are this machine's (Debian's python3-dev, or pyenv's), with
-# cmake/windows/pyconfig.h; a version whose headers are missing is reported and skipped, no
-# wheel at all is an error. Exit 3 when mingw-w64 is not installed
-# (scripts/install_deps.sh --windows installs it), which ctest counts as skipped.
+# The solver is CHOLMOD with OpenBLAS's DLL (scripts/windows_provision.py cholmod builds it once
+# into the cache from Debian's sources; docs/decisions/0063), or Eigen's with
+# EDGEDEFORM_WINDOWS_SOLVER=eigen. The CPython headers are this machine's (Debian's
+# python3-dev, or pyenv's), with cmake/windows/pyconfig.h; a version whose headers are missing
+# is reported and skipped, no wheel at all is an error. Exit 3 when mingw-w64 is not
+# installed (scripts/install_deps.sh --windows installs it), which ctest counts as skipped.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=$(realpath -m "${1:-build/windows}")
@@ -47,10 +48,21 @@ if [ ${#pythons[@]} -eq 0 ]; then
 fi
 python_list=$(IFS=';'; echo "${pythons[*]}")
 
+if [ "${EDGEDEFORM_WINDOWS_SOLVER:-cholmod}" = eigen ]; then
+  solver=(-DEDGEDEFORM_USE_CHOLMOD=OFF)
+  rm -f "$build"/python-cp*/edgedeform/edgedeform_openblas.dll   # a CHOLMOD build's, if any
+else
+  cholmod=$(/usr/bin/python3 scripts/windows_provision.py cholmod)
+  solver=(-DEDGEDEFORM_USE_CHOLMOD=ON -DCHOLMOD_INCLUDE_DIR="$cholmod/include"
+          -DCHOLMOD_LIBRARY="$cholmod/lib/libcholmod.a"
+          -DEDGEDEFORM_CHOLMOD_BLAS="$cholmod/lib/libedgedeform_openblas.dll.a"
+          -DEDGEDEFORM_BLAS_DLL="$cholmod/bin/edgedeform_openblas.dll")
+fi
+
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_TOOLCHAIN_FILE="$PWD/cmake/toolchains/mingw-w64-x86_64.cmake" \
   -DEigen3_DIR=/usr/share/eigen3/cmake \
-  -DEDGEDEFORM_USE_CHOLMOD=OFF -DEDGEDEFORM_BUILD_PYTHON=OFF \
+  "${solver[@]}" -DEDGEDEFORM_BUILD_PYTHON=OFF \
   -DEDGEDEFORM_WINDOWS_PYTHON="$python_list" -DEDGEDEFORM_PYBIND11_INCLUDE="$pybind11_include" \
   > "$build/configure.log" || { cat "$build/configure.log" >&2; exit 1; }
 cmake --build "$build" -j"$(nproc)" >&2

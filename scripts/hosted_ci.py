@@ -1,6 +1,8 @@
 """The steps of the hosted-CI recipe (.github/workflows/wheels.yml) that check built wheels,
-written once in Python so that the same script runs on the Windows, macOS and Linux runners
-and here (no bash, no ctest, no Blender install on the runner: `bpy` comes from the index).
+written once in Python so that the same script runs on the macOS and Linux runners and here
+(no bash, no ctest, no Blender install on the runner: `bpy` comes from the index). Windows'
+checks are scripts/windows_check.py's, which the project's machine runs under wine; of this
+script the Windows job uses `extension`.
 
     hosted_ci.py extension WHEEL_DIR PLATFORM OUT.zip
         the extension zip of one platform (linux-x64, windows-x64, macos-x64, macos-arm64)
@@ -28,7 +30,9 @@ import zipfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-SUITES = ("bind_solve", "groups", "bake_output", "robustness", "ui_draw", "findable")
+# The add-on's background suites, as tests/CMakeLists.txt's EDGEDEFORM_BPY_SUITES.
+SUITES = ("bind_solve", "groups", "bake_output", "robustness", "ui_draw", "findable",
+          "proportional")
 
 
 def run(*cmd, **kw):

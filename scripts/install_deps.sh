@@ -23,8 +23,10 @@ packages=(
   unzip
 )
 # The Windows cross-build (scripts/build_windows.sh): gcc's POSIX-thread variant (OpenMP),
-# with binutils and the mingw-w64 runtime; wine64 runs its programs.
-windows_packages=(g++-mingw-w64-x86-64-posix wine wine64)
+# with binutils and the mingw-w64 runtime; wine64 runs its programs and Windows' CPython and
+# Blender; osslsigncode and openssl check python.org's Authenticode signatures
+# (scripts/windows_provision.py).
+windows_packages=(g++-mingw-w64-x86-64-posix wine wine64 osslsigncode openssl)
 # pybind11 is not here: the build takes >= 2.12 from the package index (cmake/pybind11.cmake);
 # Debian 12's pybind11-dev 2.10 breaks the module under NumPy 2.
 

@@ -12,7 +12,8 @@
 #   scripts/test.sh A...          everything built, then ctest with the arguments A only
 #                                 (e.g. -R pytest, -L blender)
 # EDGEDEFORM_WINDOWS_TESTS=ON adds the `windows` label (the mingw-w64 cross-build under wine,
-# tests/windows; .ci/run sets it after scripts/install_deps.sh --windows).
+# tests/windows; .ci/run sets it after scripts/install_deps.sh --windows);
+# EDGEDEFORM_MACOS_TESTS=ON the `macos` label (the macOS link check, tests/macos).
 #
 # Each run writes its phases' times and ctest's per-test times (JUnit) to
 # $build_dir/ci_times/; scripts/ci_times.py record turns them into a docs/ci_runs/ record
@@ -76,7 +77,8 @@ fi
 
 phase install_deps scripts/install_deps.sh
 phase configure cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release \
-  -DEDGEDEFORM_WINDOWS_TESTS="${EDGEDEFORM_WINDOWS_TESTS:-OFF}"
+  -DEDGEDEFORM_WINDOWS_TESTS="${EDGEDEFORM_WINDOWS_TESTS:-OFF}" \
+  -DEDGEDEFORM_MACOS_TESTS="${EDGEDEFORM_MACOS_TESTS:-OFF}"
 phase build cmake --build "$build_dir" -j"$jobs"
 if [ "$kind" = custom ]; then
   phase ctest ctest --test-dir "$build_dir" --output-on-failure "$@"

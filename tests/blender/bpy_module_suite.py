@@ -15,6 +15,7 @@
 
 import argparse
 import importlib
+import importlib.machinery
 import io
 import os
 import re
@@ -50,13 +51,15 @@ def private_user_folders(home):
                                                                          "__init__.py"))]
 
 
-# Per extension platform: how its wheels end, its module's file name, whether CHOLMOD travels
-# inside (Linux: auditwheel; Windows and macOS use the Eigen solver, decision record 0045).
+# Per extension platform: how its wheels end, its module's file name, and the file that shows
+# CHOLMOD's BLAS travels inside (Linux: libcholmod and OpenBLAS, by auditwheel; Windows:
+# CHOLMOD linked into the module, OpenBLAS's DLL beside it, decision record 0063; macOS uses
+# the Eigen solver, record 0045).
 PLATFORMS = {
-    "linux-x64": (("_x86_64.whl",), ".so", True),
-    "windows-x64": (("-win_amd64.whl",), ".pyd", False),
-    "macos-x64": (("_x86_64.whl", "_universal2.whl"), ".so", False),
-    "macos-arm64": (("_arm64.whl", "_universal2.whl"), ".so", False),
+    "linux-x64": (("_x86_64.whl",), ".so", "libcholmod"),
+    "windows-x64": (("-win_amd64.whl",), ".pyd", "edgedeform/edgedeform_openblas.dll"),
+    "macos-x64": (("_x86_64.whl", "_universal2.whl"), ".so", None),
+    "macos-arm64": (("_arm64.whl", "_universal2.whl"), ".so", None),
 }
 
 
@@ -72,7 +75,7 @@ def check_contents(zip_path):
     assert not any(n.startswith("edgedeform/") or "__pycache__" in n for n in names), names
     assert len(manifest["platforms"]) == 1, "one zip per platform: %s" % manifest["platforms"]
     platform = manifest["platforms"][0]
-    endings, module_suffix, cholmod_inside = PLATFORMS[platform]
+    endings, module_suffix, cholmod_file = PLATFORMS[platform]
     wheels = sorted(n for n in names if n.startswith("wheels/") and n.endswith(".whl"))
     assert ["./" + n for n in wheels] == sorted(manifest["wheels"]), (wheels, manifest["wheels"])
     tags = [os.path.basename(w).split("-")[2] for w in wheels]
@@ -91,9 +94,9 @@ def check_contents(zip_path):
         versions = {manifest["version"], os.path.basename(name).split("-")[1],
                     ".".join(bl_info.groups())}
         assert len(versions) == 1, "manifest, wheel and bl_info versions differ: %s" % versions
-        if cholmod_inside:
-            # Self-contained: SuiteSparse and its BLAS travel in the wheel (auditwheel).
-            assert any("libcholmod" in n for n in wheel.namelist()), name + ": no CHOLMOD inside"
+        if cholmod_file:
+            # Self-contained: CHOLMOD and its BLAS travel in the wheel.
+            assert any(cholmod_file in n for n in wheel.namelist()), name + ": no CHOLMOD inside"
     assert "permissions" not in manifest, "the add-on touches no files, network or devices"
     print("%s zip holds the wheels %s, as its manifest lists" % (platform, ", ".join(tags)),
           flush=True)
@@ -140,9 +143,11 @@ def install(bpy, zip_path):
     wheel_site = os.path.join(ext_dir, ".local")
     assert os.path.realpath(edgedeform.__file__).startswith(wheel_site), (
         "edgedeform should come from the extension's wheel, not " + edgedeform.__file__)
-    # Blender picked the wheel of its own Python out of the several the zip holds.
-    suffix = ".cpython-%d%d-" % sys.version_info[:2]
-    assert suffix in edgedeform._core.__file__, edgedeform._core.__file__
+    # Blender picked the wheel of its own Python out of the several the zip holds: the
+    # module carries this Python's own tagged suffix (the first one the import system
+    # tries: .cpython-311-x86_64-linux-gnu.so, .cp311-win_amd64.pyd, .cpython-311-darwin.so).
+    suffix = importlib.machinery.EXTENSION_SUFFIXES[0]
+    assert edgedeform._core.__file__.endswith(suffix), (edgedeform._core.__file__, suffix)
     assert hasattr(bpy.types.Object, "edge_deform")
     print("bpy %s: installed %s; edgedeform %s from %s" % (
         bpy.app.version_string, module.__file__, edgedeform.__version__,

@@ -55,7 +55,7 @@ foreach(series ${EDGEDEFORM_BPY_SERIES})
     FIXTURES_REQUIRED "bpy_${series};edge_deform_extension"
     LABELS "blender;bpy" TIMEOUT 300 SKIP_RETURN_CODE 3)
   set(_tests)
-  foreach(suite bind_solve groups bake_output robustness ui_draw findable proportional)
+  foreach(suite ${EDGEDEFORM_BPY_SUITES})
     add_test(NAME blender_bpy_${series}_${suite}
       COMMAND ${_run} --home ${CMAKE_CURRENT_BINARY_DIR}/bpy_home/${series}-${suite}
               --suite ${CMAKE_CURRENT_SOURCE_DIR}/test_${suite}.py)

@@ -243,6 +243,8 @@ def test_short_calls_continue_one_iteration():
 
 @pytest.mark.parametrize("mesh", ("dino", "grid"))
 def test_same_positions_with_1_2_and_4_threads(tmp_path, mesh):
+    """The same bits on any thread count, whatever keeps them so in this build (CHOLMOD's
+    BLAS held to one thread, serial_blas.h; the split back-substitution's fixed order)."""
     code = (
         "import sys, numpy as np, edgedeform as ed\n"
         f"sys.path.insert(0, {os.path.dirname(os.path.abspath(__file__))!r})\n"

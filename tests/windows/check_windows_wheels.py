@@ -1,9 +1,11 @@
 """The win_amd64 wheels of the cross-build (scripts/build_windows.sh): one per asked Python,
 each a valid wheel (RECORD hashes, WHEEL tag, METADATA, the console script) holding the whole
 package and a `_core` module for that Python that exports PyInit__core and needs no DLL but
-that Python's, Windows's own and the C runtime named in
-docs/decisions/0045-windows-cross-build.md (libstdc++, libgcc, libgomp and winpthreads
-are linked in).
+that Python's, Windows's own, the C runtime named in docs/decisions/0045-windows-cross-build.md
+(libstdc++, libgcc, libgomp and winpthreads are linked in) and OpenBLAS's DLL, which CHOLMOD
+calls (docs/decisions/0063): in the wheel beside the module, itself needing only Windows and
+its Universal C Runtime (api-ms-win-crt-*). EDGEDEFORM_WINDOWS_SOLVER=eigen (a build with
+Eigen's solver, scripts/build_windows.sh) expects no BLAS.
 
     check_windows_wheels.py WHEEL_DIR OBJDUMP TAG [TAG ...]      e.g. ... cp311 cp313
 
@@ -25,6 +27,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 SYSTEM_DLLS = {"kernel32.dll", "msvcrt.dll"}   # the C runtime: MSVCRT (decision record 0045)
+BLAS_DLL = "edgedeform_openblas.dll"            # CHOLMOD's OpenBLAS (decision record 0063)
+CHOLMOD = os.environ.get("EDGEDEFORM_WINDOWS_SOLVER", "cholmod") == "cholmod"
 
 
 def check_record(z, names):
@@ -42,17 +46,37 @@ def check_record(z, names):
         assert digest == want and int(size) == len(data), (name, digest, want)
 
 
-def check_module(objdump, data, tag):
+def pe_headers(objdump, data):
     with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "_core.pyd")
+        path = os.path.join(tmp, "file.dll")
         Path(path).write_bytes(data)
-        headers = subprocess.run([objdump, "-p", path], capture_output=True, text=True,
-                                 check=True).stdout
+        return subprocess.run([objdump, "-p", path], capture_output=True, text=True,
+                              check=True).stdout
+
+
+def imported_dlls(headers):
+    return {d.lower() for d in re.findall(r"DLL Name: (\S+)", headers)}
+
+
+def check_blas(objdump, data, wheel_name):
+    """OpenBLAS's DLL needs nothing but Windows and its Universal C Runtime."""
+    headers = pe_headers(objdump, data)
+    assert "file format pei-x86-64" in headers, "%s: %s is not a 64-bit DLL" % (wheel_name, BLAS_DLL)
+    assert re.search(r"\sopenblas_set_num_threads$", headers, re.M), "no thread control to limit"
+    extra = {d for d in imported_dlls(headers)
+             if d != "kernel32.dll" and not d.startswith("api-ms-win-crt-")}
+    assert not extra, "%s: %s needs %s" % (wheel_name, BLAS_DLL, sorted(extra))
+
+
+def check_module(objdump, data, tag):
+    headers = pe_headers(objdump, data)
     assert "file format pei-x86-64" in headers, "%s: not a 64-bit Windows DLL" % tag
-    dlls = {d.lower() for d in re.findall(r"DLL Name: (\S+)", headers)}
+    dlls = imported_dlls(headers)
     python_dll = "python%s.dll" % tag[2:]
     assert python_dll in dlls, (tag, dlls)
-    extra = dlls - SYSTEM_DLLS - {python_dll}
+    if CHOLMOD:
+        assert BLAS_DLL in dlls, "%s: a CHOLMOD module calls %s: %s" % (tag, BLAS_DLL, sorted(dlls))
+    extra = dlls - SYSTEM_DLLS - {python_dll, BLAS_DLL}
     assert not extra, "%s: the module needs DLLs no Windows Python has: %s" % (tag, sorted(extra))
     # binutils 2.40 (Debian 12) lists "[   0] PyInit__core"; 2.44 (Debian 13) adds the
     # ordinal and hint: "[   0] +base[   1]  0000 PyInit__core".
@@ -105,6 +129,10 @@ def main():
             assert module in names, (wheel.name, names)
             assert not any(n.endswith((".so", ".pyc")) or "__pycache__" in n for n in names), names
             dlls = check_module(objdump, z.read(module), tag)
+            blas = "edgedeform/" + BLAS_DLL
+            assert (blas in names) == CHOLMOD, (wheel.name, "has" if blas in names else "lacks", blas)
+            if CHOLMOD:
+                check_blas(objdump, z.read(blas), wheel.name)
         print("%s: %d files, RECORD verified; %s imports only %s" % (
             wheel.name, len(names), module, ", ".join(dlls)), flush=True)
     return 0

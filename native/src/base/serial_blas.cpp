@@ -30,8 +30,22 @@ struct OpenBlasControls {
 // guard: a lookup costs microseconds against a factorization's milliseconds, and a BLAS loaded
 // after the first solve is still found.
 #if defined(_WIN32)
+OpenBlasControls lookup(HMODULE module) {
+  return {reinterpret_cast<SetThreads>(reinterpret_cast<void*>(GetProcAddress(module, "openblas_set_num_threads"))),
+          reinterpret_cast<GetThreads>(reinterpret_cast<void*>(GetProcAddress(module, "openblas_get_num_threads")))};
+}
+
 OpenBlasControls find_openblas() {
-  // Every module of the process: the BLAS DLL has no fixed name (libopenblas.dll,
+#ifdef EDGEDEFORM_BLAS_DLL_NAME
+  // First the DLL this build's CHOLMOD calls (edgedeform_openblas.dll): SciPy's OpenBLAS,
+  // loaded before it, exports the same controls, and limiting that one would leave CHOLMOD's
+  // BLAS threaded.
+  if (HMODULE own = GetModuleHandleA(EDGEDEFORM_BLAS_DLL_NAME)) {
+    const OpenBlasControls controls = lookup(own);
+    if (controls.found()) return controls;
+  }
+#endif
+  // Then every module of the process: a BLAS DLL has no fixed name (libopenblas.dll,
   // openblas.dll, a copy renamed by delvewheel).
   OpenBlasControls controls;
   HANDLE snapshot = CreateToolhelp32Snapshot(TH32CS_SNAPMODULE, GetCurrentProcessId());
@@ -39,14 +53,8 @@ OpenBlasControls find_openblas() {
   MODULEENTRY32W entry;
   entry.dwSize = sizeof(entry);
   for (BOOL more = Module32FirstW(snapshot, &entry); more; more = Module32NextW(snapshot, &entry)) {
-    auto set = reinterpret_cast<SetThreads>(
-        reinterpret_cast<void*>(GetProcAddress(entry.hModule, "openblas_set_num_threads")));
-    auto get = reinterpret_cast<GetThreads>(
-        reinterpret_cast<void*>(GetProcAddress(entry.hModule, "openblas_get_num_threads")));
-    if (set != nullptr && get != nullptr) {
-      controls = {set, get};
-      break;
-    }
+    controls = lookup(entry.hModule);
+    if (controls.found()) break;
   }
   CloseHandle(snapshot);
   return controls;
