@@ -18,7 +18,7 @@ d3  arcs: Anderson on positions as the core does it, damped (1/2, 1/4 tried befo
     step, and L-BFGS on E (the same harness: bench/arc_anderson.py); global steps to 1e-3 of
     the diagonal from the reference, rejected steps.
 
-    PYTHONPATH=build/python /usr/bin/python3 bench/bench_soft_modes.py d1 [--json PATH]
+    PYTHONPATH=build/python /usr/bin/python3 bench/bench_soft_modes.py d1 [--shapes spot] [--levels 2] [--json PATH]
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_soft_modes.py d2 [--cells koala:lift] [--p 100]
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_soft_modes.py d3 [--cells spot11k:side+]
 """
@@ -68,9 +68,9 @@ def mesh_at(spec):
 
 def d1(ed, args, log):
     rows, apart = [], []
-    for shape, levels in RESOLUTIONS.items():
+    for shape in args.shapes.split(","):
         results = []
-        for label, spec in levels:
+        for label, spec in RESOLUTIONS[shape][:args.levels]:
             V, F = mesh_at(spec)
             cache = f"{spec[0]}_split{spec[1]}" if spec[1] else spec[0]
             d, h, s, t, X, residual = prepared(ed, V, F, "lift", 1.0, cache)
@@ -216,6 +216,8 @@ def main(argv=None):
     ap.add_argument("--cells", default=None, help="d2: koala:lift,spot11k:side+ ; d3: spot11k:side+,dino:side+")
     ap.add_argument("--p", type=int, default=100, help="d2: eigenvectors computed")
     ap.add_argument("--p1", type=int, default=4, help="d1: eigenvalues computed (the largest is reported)")
+    ap.add_argument("--shapes", default=",".join(RESOLUTIONS), help="d1: " + ", ".join(RESOLUTIONS))
+    ap.add_argument("--levels", type=int, default=3, help="d1: resolutions of each shape, coarse first")
     ap.add_argument("--budget", type=int, default=2000, help="d3: global steps")
     ap.add_argument("--json", default=None)
     args = ap.parse_args(argv)

@@ -34,12 +34,12 @@ def test_every_section_has_date_machine_command_and_a_table():
 def test_a_missing_result_is_said_and_a_stale_page_is_caught(tmp_path):
     results = tmp_path / "results"
     shutil.copytree(BENCH / "results", results)
-    (results / "spectrum.json").unlink()
+    (results / "soft_modes_d3.json").unlink()
     docs = tmp_path / "docs"
     docs.mkdir()
     assert report.main(["--results", str(results), "--docs", str(docs)]) == 0
     text = (docs / "benchmarks_solver.md").read_text()
-    assert "Not measured: `bench/results/spectrum.json` is missing" in text
+    assert "Not measured: `bench/results/soft_modes_d3.json` is missing" in text
     assert report.main(["--results", str(BENCH / "results"), "--docs", str(docs), "--check"]) == 1
 
 
