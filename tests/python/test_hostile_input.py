@@ -4,6 +4,7 @@ never "internal error"); a wrong type is a short TypeError naming the argument, 
 listing of every argument; a radius that frees nothing is a NoFreeVertexError that suggests a
 larger radius only where one helps; a file the CLI cannot read or write is named."""
 
+import os
 import re
 import sys
 
@@ -140,3 +141,42 @@ def test_cli_write_error_names_out_not_a_temporary_file(tmp_path, spot_constrain
     assert re.search(rf"edgedeform: error: \[Errno \d+\] cannot write {re.escape(str(out))}: ", p.stderr), p.stderr
     assert ".edgedeform-" not in p.stderr
     assert sorted(x.name for x in tmp_path.iterdir()) == ["c.json", "o.obj"]   # nothing left behind
+
+
+SOLVE_UNDER_A_LIMIT = r"""
+import json, resource, sys
+sys.path.insert(0, sys.argv[2])
+import edgedeform as ed
+from _meshes import SPOT, lift, load
+V, F = load(SPOT)
+handles, static, targets = lift(V, amount=0.1)
+d = ed.Deformer(V, F)
+d.set_constraints(handles=handles, static=static)
+d.set_stiffness(1.0)
+d.solve(targets, max_iterations=1)   # the factor and its workspace before the limit
+with open("/proc/self/status") as fh:
+    held = next(int(l.split()[1]) * 1024 for l in fh if l.startswith("VmSize:"))
+limit = held + int(sys.argv[1])
+resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+out = {}
+for acceleration in ("auto", "anderson", "none"):
+    r = d.solve(targets, max_iterations=%d, tolerance=1e-3, warm_start=False, acceleration=acceleration)
+    out[acceleration] = [r.method, r.iterations, r.converged]
+print(json.dumps(out))
+""" % INT_MAX
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_AS and /proc are Linux's")
+def test_the_largest_max_iterations_reserves_no_history_it_does_not_use():
+    """max_iterations = 2^31 - 1 must not reserve 2^31 energies and residuals (16 GiB each):
+    every method converges under an address-space limit 1 GiB above what the process holds
+    (L-BFGS reserved max_iterations and ended in MemoryError here)."""
+    import json
+    import subprocess
+    here = os.path.dirname(os.path.abspath(__file__))
+    proc = subprocess.run([sys.executable, "-c", SOLVE_UNDER_A_LIMIT, str(1 << 30), here],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    out = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert out["auto"][0] == "lbfgs" and out["anderson"][0] == "anderson"
+    assert all(converged and 0 < iterations < 2000 for _, iterations, converged in out.values()), out

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "strategies/claim_check.h"
+#include "strategies/global_step.h"
 #include "base/errors.h"
 
 namespace edgedeform {
@@ -51,24 +52,12 @@ void plain_anderson_solve(FixedPointProblem& problem, const PlainAndersonSetting
   const bool accelerate = settings.accelerate;
   const bool descent = settings.descent;
   const Eigen::Index dim = y.size();
-  // Room for the usual solve, not for max_iterations: that may be 2^31 - 1 (16 GiB each).
-  const auto expected = static_cast<size_t>(std::min(settings.max_iterations, 4096));
-  result.energies.reserve(expected);
-  result.residuals.reserve(expected);
-  result.distance_estimate = std::numeric_limits<double>::infinity();
+  start_history(result, settings.max_iterations);
 
   for (int k = 0; k < settings.max_iterations; ++k) {
     if (problem.interrupt_requested()) throw SolveInterrupted("solve interrupted");
-    problem.global_step(fit, m.rhs, m.g);
-    ++result.iterations;
-    const double r = max_row_distance(m.g, y) / settings.diag;
-    result.residuals.push_back(r);
-    if (!std::isfinite(r)) {  // y stays the last finite iterate
-      result.warnings.push_back("the iteration produced non-finite positions; stopped at the last finite shape");
-      result.energies.push_back(point.energy);
-      point.fitted = false;
-      return;
-    }
+    double r = 0.0;
+    if (!recorded_global_step(problem, fit, point, settings.diag, m.rhs, m.g, r, result)) return;
     const bool map_pair = point.fitted;  // g = G(y)
     m.monitor.add(y, m.g, map_pair);
     result.distance_estimate = map_pair ? m.monitor.distance(r) : std::numeric_limits<double>::infinity();

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "strategies/claim_check.h"
+#include "strategies/global_step.h"
 #include "base/errors.h"
 
 namespace edgedeform {
@@ -105,22 +106,12 @@ void QuasiNewtonMemory::direction(const Eigen::MatrixXd& grad, const Eigen::Matr
 void quasi_newton_solve(FixedPointProblem& problem, const QuasiNewtonSettings& settings, IterationPoint& point,
                         LocalFit& fit, QuasiNewtonMemory& m, SolveResult& result) {
   Eigen::MatrixXd& y = point.y;
-  result.energies.reserve(static_cast<size_t>(settings.max_iterations));
-  result.residuals.reserve(static_cast<size_t>(settings.max_iterations));
-  result.distance_estimate = std::numeric_limits<double>::infinity();
+  start_history(result, settings.max_iterations);
 
   for (int k = 0; k < settings.max_iterations; ++k) {
     if (problem.interrupt_requested()) throw SolveInterrupted("solve interrupted");
-    problem.global_step(fit, m.rhs_, m.g_);
-    ++result.iterations;
-    const double r = max_row_distance(m.g_, y) / settings.diag;
-    result.residuals.push_back(r);
-    if (!std::isfinite(r)) {  // y stays the last finite iterate
-      result.warnings.push_back("the iteration produced non-finite positions; stopped at the last finite shape");
-      result.energies.push_back(point.energy);
-      point.fitted = false;
-      return;
-    }
+    double r = 0.0;
+    if (!recorded_global_step(problem, fit, point, settings.diag, m.rhs_, m.g_, r, result)) return;
     const bool map_pair = point.fitted;  // g = G(y)
     result.distance_estimate = checked_distance(problem, m.monitor_, fit, y, m.g_, r, map_pair,
                                                 settings.verify_claims, settings.tolerance, result);
