@@ -1,4 +1,5 @@
-"""Operators that turn a vertex selection into handle, static, region and stiffness groups.
+"""Operators that turn a vertex selection into handle, static, region and stiffness groups,
+and the panel's buttons that move the selection between a mesh and a controller.
 
 Selections come from any tool (box, lasso, circle, select linked, ...): the operators only
 read the selection state, in Edit Mode or from Weight Paint's vertex mask.
@@ -9,8 +10,9 @@ import numpy as np
 from bpy.props import EnumProperty, FloatProperty, StringProperty
 from mathutils import Matrix, Vector
 
-from . import compat, engine, handle_holds, mesh_arrays, output_checks, shown_shape
+from . import compat, engine, mesh_io
 from .op_common import object_mode, poll_mesh, tell
+
 
 PRESETS = {'SOFT': 0.0, 'MEDIUM': 0.5, 'RIGID': 1.0}
 # Short enough to read in full in the panel's fields at the default sidebar width.
@@ -20,7 +22,7 @@ STIFFNESS_DEFAULT = "ED_Stiffness"
 
 
 def _selected(op, ob):
-    idx = np.flatnonzero(mesh_arrays.read_selection(ob))
+    idx = np.flatnonzero(mesh_io.read_selection(ob))
     if idx.size == 0:
         tell(op, 'ERROR', "No vertices selected")
     return idx
@@ -49,7 +51,7 @@ class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
         with object_mode(ob):
             # Where the artist sees the vertices (on a deformed mesh: the shape shown, not
             # the rest): the Empty goes there, and the handle holds them there.
-            X = shown_shape.addon_shape(ob)
+            X = mesh_io.addon_shape(ob)
             centroid = ob.matrix_world @ Vector(X[idx].mean(axis=0))
             size = float(np.ptp(X, axis=0).max()) * 0.08 or 0.1
             # A vertex follows one handle: take the selection out of the other groups.
@@ -57,7 +59,7 @@ class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
                 if other and other in ob.vertex_groups:
                     ob.vertex_groups[other].remove(idx.tolist())
             vg = ob.vertex_groups.new(name=self.name or "Handle")   # unique: "Handle.001"
-            mesh_arrays.assign_group(ob, vg.name, idx)
+            mesh_io.assign_group(ob, vg.name, idx)
             # Named after the object and the group: "Handle_Controller" of every mesh
             # crept to "Handle_Controller.004".
             empty = bpy.data.objects.new("%s_%s" % (ob.name, vg.name), None)
@@ -78,13 +80,13 @@ class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
 
 
 def hold_where_shown(ob, idx, where):
-    """The new handle holds its vertices where they are shown (handle_holds.py). Without
+    """The new handle holds its vertices where they are shown (mesh_io.hold_at). Without
     a readable rest (a broken Mesh output) it holds the rest: the next solve says why."""
     try:
-        rest = output_checks.rest_shape(ob.data)
-    except engine.EdgeDeformError:
+        rest = mesh_io.rest_shape(ob.data)
+    except mesh_io.EdgeDeformError:
         return
-    handle_holds.hold(ob.data, rest, idx, where)
+    mesh_io.hold_at(ob.data, rest, idx, where)
 
 
 class EDGE_DEFORM_OT_remove_handle(bpy.types.Operator):
@@ -103,8 +105,8 @@ class EDGE_DEFORM_OT_remove_handle(bpy.types.Operator):
         group = s.handles[min(s.active_handle, len(s.handles) - 1)].vertex_group
         if group in ob.vertex_groups:   # its vertices are held at their rest again
             with object_mode(ob):
-                weights = mesh_arrays.read_group_weights(ob, [group])[group]
-                handle_holds.release(ob.data, np.flatnonzero(weights > 0.0))
+                weights = mesh_io.read_group_weights(ob, [group])[group]
+                mesh_io.release_holds(ob.data, np.flatnonzero(weights > 0.0))
         s.handles.remove(min(s.active_handle, len(s.handles) - 1))
         s.active_handle = max(0, min(s.active_handle, len(s.handles) - 1))
         return {'FINISHED'}
@@ -131,7 +133,7 @@ class _SetGroup:
                 for handle in ob.edge_deform.handles:
                     if handle.vertex_group in ob.vertex_groups:
                         ob.vertex_groups[handle.vertex_group].remove(idx.tolist())
-            vg = mesh_arrays.assign_group(ob, name, idx, 1.0, replace_all=True)
+            vg = mesh_io.assign_group(ob, name, idx, 1.0, replace_all=True)
         setattr(ob.edge_deform, self.field, vg.name)
         tell(self, 'INFO', "%s group '%s': %d vertices" % (self.bl_label.split()[-1],
                                                                  vg.name, idx.size))
@@ -159,7 +161,7 @@ def ensure_stiffness_group(ob):
     name = s.stiffness_group or STIFFNESS_DEFAULT
     if name not in ob.vertex_groups:
         with object_mode(ob):
-            vg = mesh_arrays.assign_group(ob, name, np.arange(len(ob.data.vertices)),
+            vg = mesh_io.assign_group(ob, name, np.arange(len(ob.data.vertices)),
                                       s.stiffness)
         name = vg.name
     s.stiffness_group = name
@@ -177,7 +179,7 @@ def _stiffness_targets(op, ob):
     if me.use_paint_mask_vertex:
         return _selected(op, ob)
     if me.use_paint_mask:   # face mask: the vertices of the selected faces
-        idx = mesh_arrays.selected_face_vertices(me)
+        idx = mesh_io.selected_face_vertices(me)
         if idx.size == 0:
             tell(op, 'ERROR', "No faces selected")
         return idx
@@ -213,7 +215,7 @@ class EDGE_DEFORM_OT_assign_stiffness(bpy.types.Operator):
         lam = PRESETS.get(self.preset, self.value)
         vg = ensure_stiffness_group(ob)
         with object_mode(ob):
-            mesh_arrays.assign_group(ob, vg.name, idx, lam)
+            mesh_io.assign_group(ob, vg.name, idx, lam)
         tell(self, 'INFO', "λ = %.2f on %d vertices (group '%s')" % (lam, idx.size, vg.name))
         return {'FINISHED'}
 
@@ -237,6 +239,62 @@ class EDGE_DEFORM_OT_paint_stiffness(bpy.types.Operator):
         return {'FINISHED'}
 
 
-CLASSES = (EDGE_DEFORM_OT_add_handle, EDGE_DEFORM_OT_remove_handle,
-           EDGE_DEFORM_OT_set_static, EDGE_DEFORM_OT_set_roi,
-           EDGE_DEFORM_OT_assign_stiffness, EDGE_DEFORM_OT_paint_stiffness)
+# ------------------------------------------------------------------ selection
+# Select Controller and Select Mesh: the panel's buttons that move the selection between a
+# deformed mesh and the controller of its active handle (ready for G/R/S or its gizmo).
+
+class EDGE_DEFORM_OT_select_controller(bpy.types.Operator):
+    """Make the active handle's controller the active, only selected object, ready to move
+    with G/R/S or its gizmo (the Edge Deform tab stays open)"""
+    bl_idname = "edge_deform.select_controller"
+    bl_label = "Select Controller"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        return poll_mesh(cls, context, ('OBJECT',), need_handles=True)
+
+    def execute(self, context):
+        ob = context.active_object
+        s = ob.edge_deform
+        controller = s.handles[min(s.active_handle, len(s.handles) - 1)].controller
+        if controller is None:
+            tell(self, 'ERROR', "This handle has no controller")
+            return {'CANCELLED'}
+        if controller.name not in context.view_layer.objects:
+            tell(self, 'ERROR', "The controller is not in this view layer")
+            return {'CANCELLED'}
+        for other in context.view_layer.objects:
+            if other is not None and other != controller:
+                other.select_set(False)
+        controller.select_set(True)
+        context.view_layer.objects.active = controller
+        return {'FINISHED'}
+
+
+class EDGE_DEFORM_OT_select_mesh(bpy.types.Operator):
+    """Make the deformed mesh active again (after moving one of its controllers)"""
+    bl_idname = "edge_deform.select_mesh"
+    bl_label = "Select Mesh"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        return poll_mesh(cls, context, ('OBJECT',))
+
+    def execute(self, context):
+        ob = context.active_object
+        if ob.name not in context.view_layer.objects:
+            return {'CANCELLED'}
+        for other in context.view_layer.objects:
+            if other is not None and other != ob:
+                other.select_set(False)
+        ob.select_set(True)
+        context.view_layer.objects.active = ob
+        return {'FINISHED'}
+
+
+CLASSES = (EDGE_DEFORM_OT_add_handle, EDGE_DEFORM_OT_remove_handle, EDGE_DEFORM_OT_set_static,
+           EDGE_DEFORM_OT_set_roi, EDGE_DEFORM_OT_assign_stiffness,
+           EDGE_DEFORM_OT_paint_stiffness, EDGE_DEFORM_OT_select_controller,
+           EDGE_DEFORM_OT_select_mesh,)

@@ -13,6 +13,7 @@ import blf
 import bpy
 from bpy_extras.view3d_utils import location_3d_to_region_2d
 
+
 NOTE_SECONDS = 5.0   # how long a note (a refused key) stays on screen
 
 

@@ -1,6 +1,6 @@
 """The "Edge Deform" tab in the 3D Viewport sidebar: a main panel with the actions and
 collapsible sub-panels (Handles, Groups, Stiffness, Solver, Animation), like Blender's own
-tools. Labels sit above fields whose values are long (vertex group names), so everything
+tools, and the menu entries (at the end). Labels sit above fields whose values are long (vertex group names), so everything
 stays readable at the default sidebar width.
 
 The panel also shows while a controller of a deformed mesh is active (the artist picked it
@@ -10,7 +10,7 @@ get the mesh as their `active_object` (layout.context_pointer_set).
 
 import bpy
 
-from . import compat, frame_handler, lifecycle, modal_tool, op_common
+from . import compat, lifecycle, modal, op_common, operators_bind
 
 
 # (Kept here too: the panel and its tests speak of it.)
@@ -42,7 +42,6 @@ class _Panel:
         return deformed_object(context) is not None
 
 
-
 class EDGE_DEFORM_UL_handles(bpy.types.UIList):
     """Handle rows: the vertex group's name and its controller's, as plain text (fields
     would shrink to a letter each); the active handle's fields are edited below the list."""
@@ -67,7 +66,7 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
 
     def draw_header(self, context):
         ob = deformed_object(context)
-        if ob is not None and frame_handler.frame_problem(ob):
+        if ob is not None and operators_bind.frame_problem(ob):
             self.layout.label(text="", icon='ERROR')
 
     def draw(self, context):
@@ -82,7 +81,7 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
             row.label(text=ob.name, icon='OUTLINER_OB_MESH')
             row.operator("edge_deform.select_mesh", text="", icon='RESTRICT_SELECT_OFF')
 
-        running = modal_tool.running_tool(ob)
+        running = modal.running_tool(ob)
         if running:
             col = layout.column(align=True)
             col.label(text="%s on" % running.bl_label, icon='REC')
@@ -114,7 +113,7 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
         row = col.row(align=True)
         row.operator("edge_deform.solve", icon='FILE_REFRESH')
         row.operator("edge_deform.apply", icon='CHECKMARK')
-        problem = frame_handler.frame_problem(ob) if s.animate else None
+        problem = operators_bind.frame_problem(ob) if s.animate else None
         if problem:
             layout.label(text=problem, icon='ERROR')
 
@@ -245,12 +244,70 @@ class EDGE_DEFORM_PT_animation(_SubPanel, bpy.types.Panel):
         ob = target(self.layout, context)
         s = ob.edge_deform
         layout.prop(s, "animate", text="Every Frame")   # (the full name: the tooltip)
-        problem = frame_handler.frame_problem(ob) if s.animate else None
+        problem = operators_bind.frame_problem(ob) if s.animate else None
         if problem:
             layout.label(text=problem, icon='ERROR')
         layout.operator("edge_deform.bake", icon='REC')
 
 
+# ------------------------------------------------------------------ menu entries
+# Menu entries where artists look for a deform tool (and where F3 search finds them):
+# Object > Edge Deform, Edit Mode's Vertex menu and Weight Paint's Weights menu.
+
+class EDGE_DEFORM_MT_object(bpy.types.Menu):
+    bl_label = "Edge Deform"
+    bl_idname = "EDGE_DEFORM_MT_object"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.operator("edge_deform.bind", icon='LINKED')
+        layout.operator("edge_deform.live", icon='PLAY')
+        layout.operator("edge_deform.solve", icon='FILE_REFRESH')
+        layout.operator("edge_deform.apply", icon='CHECKMARK')
+        layout.operator("edge_deform.bake", icon='REC')
+        layout.separator()
+        layout.operator("edge_deform.unbind", icon='UNLINKED')
+
+
+def _object_menu(self, context):
+    self.layout.separator()
+    self.layout.menu(EDGE_DEFORM_MT_object.bl_idname)
+
+
+def _edit_vertex_menu(self, context):
+    layout = self.layout
+    layout.separator()
+    layout.operator("edge_deform.grab", text="Grab Deform", icon='VIEW_PAN')
+    layout.operator("edge_deform.add_handle", text="Add Edge Deform Handle")
+    layout.operator("edge_deform.set_static", text="Set Edge Deform Static")
+    layout.operator("edge_deform.set_roi", text="Set Edge Deform Region")
+    layout.operator_menu_enum("edge_deform.assign_stiffness", "preset",
+                              text="Assign Edge Deform Stiffness")
+
+
+def _weight_menu(self, context):
+    layout = self.layout
+    layout.separator()
+    layout.operator_menu_enum("edge_deform.assign_stiffness", "preset",
+                              text="Assign Edge Deform Stiffness")
+
+
+# (menu class name, draw function): appended on register, removed on unregister.
+ENTRIES = (("VIEW3D_MT_object", _object_menu),
+           ("VIEW3D_MT_edit_mesh_vertices", _edit_vertex_menu),
+           ("VIEW3D_MT_paint_weight", _weight_menu))
+
+
+def register_menus():
+    for menu, draw in ENTRIES:
+        getattr(bpy.types, menu).append(draw)
+
+
+def unregister_menus():
+    for menu, draw in ENTRIES:
+        getattr(bpy.types, menu).remove(draw)
+
+
 CLASSES = (EDGE_DEFORM_UL_handles, EDGE_DEFORM_PT_main, EDGE_DEFORM_PT_handles,
            EDGE_DEFORM_PT_groups, EDGE_DEFORM_PT_stiffness, EDGE_DEFORM_PT_solver,
-           EDGE_DEFORM_PT_animation)
+           EDGE_DEFORM_PT_animation, EDGE_DEFORM_MT_object,)
