@@ -21,6 +21,9 @@ import numpy as np
 from . import compat, mesh_io
 
 
+Refused = mesh_io.EdgeDeformError
+
+
 @dataclass
 class HandleInput:
     group: str
@@ -50,11 +53,11 @@ def gather_inputs(ob, require_handles=True):
     """Read the settings and vertex groups of `ob`; raise EdgeDeformError on bad input."""
     s = ob.edge_deform
     if require_handles and not s.handles:
-        raise mesh_io.EdgeDeformError("No handles: select vertices in Edit Mode and use Add Handle")
+        raise Refused("No handles: select vertices in Edit Mode and use Add Handle")
     names = []
     for h in s.handles:
         if not h.vertex_group:
-            raise mesh_io.EdgeDeformError("A handle has no vertex group")
+            raise Refused("A handle has no vertex group")
         names.append(h.vertex_group)
     # Proportional on: the radius picks the region and the Region group is not read
     # (docs/decisions/0056).
@@ -64,23 +67,22 @@ def gather_inputs(ob, require_handles=True):
             names.append(name)
     for name in names:
         if name not in ob.vertex_groups:
-            raise mesh_io.EdgeDeformError("Vertex group '%s' does not exist (deleted or renamed?): "
-                                  "pick a group in the Edge Deform panel" % name)
-    weights = mesh_io.read_group_weights(ob, names)
-    holds = mesh_io.hold_offsets(ob.data)
+            raise Refused("Vertex group '%s' does not exist (deleted or renamed?): "
+                          "pick a group in the Edge Deform panel" % name)
+    weights, holds = mesh_io.read_groups_and_holds(ob, names)
 
     groups, seen = [], np.zeros(len(ob.data.vertices), np.int32)
     for h in s.handles:
         idx = _members(weights[h.vertex_group])
         if idx.size == 0:
-            raise mesh_io.EdgeDeformError("Handle group '%s' is empty" % h.vertex_group)
+            raise Refused("Handle group '%s' is empty" % h.vertex_group)
         seen[idx] += 1
         groups.append(HandleInput(h.vertex_group, idx, h.controller,
                                   h.rest_matrix.inverted_safe(),
                                   None if holds is None else holds[idx]))
     if np.any(seen > 1):
         v = int(np.flatnonzero(seen > 1)[0])
-        raise mesh_io.EdgeDeformError("Vertex %d belongs to two handle groups; a vertex can follow "
+        raise Refused("Vertex %d belongs to two handle groups; a vertex can follow "
                               "only one handle" % v)
     handles = (np.concatenate([g.indices for g in groups]) if groups
                else np.zeros(0, np.int64))
@@ -89,16 +91,16 @@ def gather_inputs(ob, require_handles=True):
     if s.static_group:
         static = _members(weights[s.static_group])
         if static.size == 0:
-            raise mesh_io.EdgeDeformError("Static group '%s' is empty" % s.static_group)
+            raise Refused("Static group '%s' is empty" % s.static_group)
         overlap = np.intersect1d(static, handles)
         if overlap.size:
-            raise mesh_io.EdgeDeformError("%d vertices are both handle and static (e.g. vertex %d)"
+            raise Refused("%d vertices are both handle and static (e.g. vertex %d)"
                                   % (overlap.size, overlap[0]))
     roi = None
     if region_group:
         roi = _members(weights[region_group])
         if roi.size == 0:
-            raise mesh_io.EdgeDeformError("Region group '%s' is empty" % region_group)
+            raise Refused("Region group '%s' is empty" % region_group)
     if s.stiffness_group:
         stiffness = np.clip(weights[s.stiffness_group].astype(np.float64), 0.0, 1.0)
     else:
@@ -292,7 +294,6 @@ class NothingFree(mesh_io.EdgeDeformError):
 # The stages are generators yielding (fraction, status text) before each long step; a new
 # Binding enters the cache only after its last step, so closing one early changes nothing.
 
-Refused = mesh_io.EdgeDeformError
 
 
 def _count(n):

@@ -189,10 +189,6 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         """Around the dragged vertices where the pointer has put them."""
         return modal.circles(self.ob, [self.start + self.delta])
 
-    @property
-    def settle_iterations(self):
-        return self.settle.iterations
-
     def go(self, event):
         self.state = grab_next(self.state, event)
 

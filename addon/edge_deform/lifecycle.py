@@ -25,7 +25,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from . import engine, mesh_io, modal_rules
-from .mesh_io import check_output, owned_key, rest_shape, shape_hash
+from .mesh_io import owned_key
 
 
 Refused = mesh_io.EdgeDeformError
@@ -110,14 +110,12 @@ def prepare_steps(ob, inputs=None, require_handles=True, what=None,
     if inputs is None:
         forget_deleted_controllers(ob)
         inputs = engine.gather_inputs(ob, require_handles=require_handles)
-    mesh = ob.data
-    digest = mesh_io.topology_digest(mesh)
-    check_output(ob, digest)
+    start = mesh_io.SolveStart(ob)   # the mesh read once, checked before anything changes
     # (The owner: a linked duplicate has settings of its own.)
     binding = yield from engine.binding_steps(
-        mesh, inputs, rest_shape(mesh), digest, what or "'%s'" % ob.name, fractions,
+        ob.data, inputs, start.rest, start.digest, what or "'%s'" % ob.name, fractions,
         ob.name_full)
-    return ObjectSolver(ob, inputs, binding, shape_hash(mesh_io.read_positions32(mesh)))
+    return ObjectSolver(ob, inputs, binding, start.base_hash)
 
 
 def prepare(ob, inputs=None, require_handles=True):

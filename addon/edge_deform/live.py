@@ -34,7 +34,7 @@ from . import engine, lifecycle, mesh_io, modal, modal_rules, overlay, propertie
 from .modal import ModalTool
 from .modal_rules import Live, LiveEvent, live_next
 from .op_common import (Stages, deformed_object, error_text, guarded, over_the_view,
-                        poll_mesh, tell)
+                        poll_mesh, select_only, tell)
 
 
 LAMBDA_STEP = 0.05
@@ -125,10 +125,6 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         if order:
             order.insert(0, order[min(s.active_handle, len(order) - 1)])
         return next((h.controller for h in order if h.controller is not None), None)
-
-    @property
-    def settle_iterations(self):
-        return self.settle.iterations
 
     def go(self, event):
         self.state = live_next(self.state, event)
@@ -625,9 +621,7 @@ class Surroundings:
         controller or another object; no controller that can be selected)."""
         if self.active != self.ob or not _selectable(self.layer, controller):
             return None
-        for other in self.layer.objects:
-            other.select_set(other == controller)
-        self.layer.objects.active = controller
+        select_only(self.layer, controller)
         self.made = controller
         return controller
 

@@ -365,6 +365,18 @@ def rest_shape(mesh):
     return read_positions(mesh)
 
 
+class SolveStart:
+    """What a solve reads from the mesh before it binds, in one pass, after every check:
+    the topology digest, the rest shape (n, 3) float64 and the hash of the base."""
+
+    def __init__(self, ob):
+        mesh = ob.data
+        self.digest = topology_digest(mesh)
+        check_output(ob, self.digest)
+        self.rest = rest_shape(mesh)
+        self.base_hash = shape_hash(read_positions32(mesh))
+
+
 # ------------------------------------------------------------------ writes
 # Writing the output: the only code that writes a result, the baked keys or an applied
 # shape into the mesh (lifecycle.py decides when, the checks above what it may overwrite).
@@ -618,6 +630,12 @@ def addon_shape(ob):
 # Handle releases its vertices.
 
 HOLD_ATTRIBUTE = ".edge_deform_hold"
+
+
+def read_groups_and_holds(ob, names):
+    """({group name: (n,) weights}, the holds' offsets or None): what the inputs read of
+    the mesh, in one call."""
+    return read_group_weights(ob, names), hold_offsets(ob.data)
 
 
 def hold_offsets(mesh):

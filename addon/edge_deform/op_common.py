@@ -124,6 +124,15 @@ def over_the_view(area, event):
     return view
 
 
+def select_only(layer, ob):
+    """Make `ob` the active and only selected object of the view layer `layer`."""
+    for other in layer.objects:
+        if other is not None and other != ob:   # (None right after objects were removed)
+            other.select_set(False)
+    ob.select_set(True)
+    layer.objects.active = ob
+
+
 def redraw_views(context):
     """Redraw every 3D viewport (its sidebar too): the panel shows state that changed
     without a redraw of its own (bound, a tool ended)."""

@@ -23,6 +23,12 @@ class StepsJob:
     cancel leaves the data as it was. The operator defines job_done(context, result) and
     job_cancelled(context)."""
 
+    def job_object(self, context):
+        """The mesh the job works on; the clock of the artist's wait starts now."""
+        ob = deformed_object(context)
+        self.object_name, self.t0 = ob.name, time.perf_counter()
+        return ob
+
     def start_job(self, context, text, steps):
         self.job = Stages(context, text, steps)
         self.job_area = context.area
@@ -64,32 +70,36 @@ class StepsJob:
 
 # ------------------------------------------------------------------ bind, solve, apply, unbind
 
-class EDGE_DEFORM_OT_bind(StepsJob, bpy.types.Operator):
+class RewritesTheMesh:
+    """Bind, Solve, Apply, Unbind and Bake (a mix-in): one undo step each, and greyed while
+    a modal tool runs on the mesh, the tooltip saying why (modal.poll). `on_controller`:
+    also the mesh of the active controller."""
+    bl_options = {'REGISTER', 'UNDO'}
+    on_controller = True
+
+    @classmethod
+    def poll(cls, context):
+        return modal.poll(cls, context, on_controller=cls.on_controller)
+
+
+class EDGE_DEFORM_OT_bind(RewritesTheMesh, StepsJob, bpy.types.Operator):
     """Get the mesh ready to deform: the mesh and controllers as they are now become the
     rest pose. Takes a moment on big meshes; every later update is quick"""
     bl_idname = "edge_deform.bind"
     bl_label = "Bind"
-    bl_options = {'REGISTER', 'UNDO'}
-
-    @classmethod
-    def poll(cls, context):
-        return modal.poll(cls, context)
-
     def text(self, ob):
         return "Binding '%s' (%d vertices)…" % (ob.name, len(ob.data.vertices))
 
     @guarded
     def execute(self, context):
-        ob = deformed_object(context)
-        self.t0 = time.perf_counter()
+        ob = self.job_object(context)
         return self.job_done(context, run_steps(context, self.text(ob), lifecycle.bind_steps(ob)))
 
     @guarded
     def invoke(self, context, event):
         """From the UI: one stage per timer tick, so the status bar says what happens
         (reading, building the graph, factoring) and Esc cancels between stages."""
-        ob = deformed_object(context)
-        self.object_name, self.t0 = ob.name, time.perf_counter()
+        ob = self.job_object(context)
         return self.start_job(context, self.text(ob), lifecycle.bind_steps(ob))
 
     def job_done(self, context, binding):
@@ -107,25 +117,19 @@ class EDGE_DEFORM_OT_bind(StepsJob, bpy.types.Operator):
         tell(self, 'WARNING', "Bind of '%s' cancelled; nothing changed" % self.object_name)
 
 
-class EDGE_DEFORM_OT_solve(StepsJob, bpy.types.Operator):
+class EDGE_DEFORM_OT_solve(RewritesTheMesh, StepsJob, bpy.types.Operator):
     """Deform the mesh once to follow where the controllers are now"""
     bl_idname = "edge_deform.solve"
     bl_label = "Solve"
-    bl_options = {'REGISTER', 'UNDO'}
 
     warm_start: BoolProperty(
         name="Warm Start", default=False,
         description="Continue from the last result (faster); off gives the same shape "
                     "every time for the same controllers")
 
-    @classmethod
-    def poll(cls, context):
-        return modal.poll(cls, context)
-
     @guarded
     def execute(self, context):
-        ob = deformed_object(context)
-        self.t0 = time.perf_counter()
+        ob = self.job_object(context)
         with op_common.showing_progress(context, "Deforming '%s'…" % ob.name):
             bound, r = lifecycle.deform(ob, warm=self.warm_start)
         return self.job_done(context, (bound, r, r.iterations))
@@ -136,8 +140,7 @@ class EDGE_DEFORM_OT_solve(StepsJob, bpy.types.Operator):
         so the progress advances and Esc stops the solve with the mesh as it was."""
         if self.warm_start:
             return self.execute(context)
-        ob = deformed_object(context)
-        self.object_name, self.t0 = ob.name, time.perf_counter()
+        ob = self.job_object(context)
         return self.start_job(context, "Deforming '%s'…" % ob.name,
                               lifecycle.deform_steps(ob))
 
@@ -154,17 +157,11 @@ class EDGE_DEFORM_OT_solve(StepsJob, bpy.types.Operator):
              % self.object_name)
 
 
-class EDGE_DEFORM_OT_apply(bpy.types.Operator):
+class EDGE_DEFORM_OT_apply(RewritesTheMesh, bpy.types.Operator):
     """Make the shape you see the base mesh and the new rest shape (other shape keys
     keep their offsets)"""
     bl_idname = "edge_deform.apply"
     bl_label = "Apply"
-    bl_options = {'REGISTER', 'UNDO'}
-
-    @classmethod
-    def poll(cls, context):
-        return modal.poll(cls, context)
-
     @guarded
     def execute(self, context):
         ob = deformed_object(context)
@@ -174,16 +171,12 @@ class EDGE_DEFORM_OT_apply(bpy.types.Operator):
         return {'FINISHED'}
 
 
-class EDGE_DEFORM_OT_unbind(bpy.types.Operator):
+class EDGE_DEFORM_OT_unbind(RewritesTheMesh, bpy.types.Operator):
     """Release the mesh: the next Bind or Solve takes the mesh as it is now as its rest
     pose. The mesh and its shape key stay as they are"""
     bl_idname = "edge_deform.unbind"
     bl_label = "Unbind"
-    bl_options = {'REGISTER', 'UNDO'}
-
-    @classmethod
-    def poll(cls, context):
-        return modal.poll(cls, context, on_controller=False)
+    on_controller = False   # the active object itself, bound or not
 
     @guarded
     def execute(self, context):
@@ -198,11 +191,10 @@ class EDGE_DEFORM_OT_unbind(bpy.types.Operator):
 # on its frame and 0 on its neighbours, so playback interpolates linearly between solved
 # frames). Deforming on every frame without baking is the frame handler's (below).
 
-class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
+class EDGE_DEFORM_OT_bake(RewritesTheMesh, StepsJob, bpy.types.Operator):
     """Solve every frame of a range and store the results as shape keys keyed over time"""
     bl_idname = "edge_deform.bake"
     bl_label = "Bake Frames"
-    bl_options = {'REGISTER', 'UNDO'}
 
     use_scene_range: BoolProperty(name="Scene Range", default=True,
                                   description="Bake the scene's frame range")
@@ -213,10 +205,6 @@ class EDGE_DEFORM_OT_bake(StepsJob, bpy.types.Operator):
     iterations: IntProperty(name="Refinement per Frame", default=10, min=1,
                             description="Refinement passes on each frame (more: closer to "
                                         "the stiffness, slower)")
-
-    @classmethod
-    def poll(cls, context):
-        return modal.poll(cls, context)
 
     def frames(self, scene):
         start, end = ((scene.frame_start, scene.frame_end) if self.use_scene_range

@@ -11,7 +11,7 @@ from bpy.props import EnumProperty, FloatProperty, StringProperty
 from mathutils import Matrix, Vector
 
 from . import compat, engine, mesh_io
-from .op_common import object_mode, poll_mesh, tell
+from .op_common import object_mode, poll_mesh, select_only, tell
 
 
 PRESETS = {'SOFT': 0.0, 'MEDIUM': 0.5, 'RIGID': 1.0}
@@ -28,25 +28,41 @@ def _selected(op, ob):
     return idx
 
 
-class EDGE_DEFORM_OT_add_handle(bpy.types.Operator):
-    """Make the selected vertices a new handle, moved by a new Empty at their centroid; it
-    holds them where they are shown"""
-    bl_idname = "edge_deform.add_handle"
-    bl_label = "Add Handle"
+class _OnMesh:
+    """An operator on the active mesh, one undo step; its poll wants one of `modes` (None:
+    any) and, with `need_handles`, a handle."""
     bl_options = {'REGISTER', 'UNDO'}
-
-    name: StringProperty(name="Name", default="Handle",
-                         description="Name of the new vertex group (and its controller)")
+    modes = None
+    need_handles = False
 
     @classmethod
     def poll(cls, context):
-        return poll_mesh(cls, context, ('EDIT',))
+        return poll_mesh(cls, context, cls.modes, need_handles=cls.need_handles)
+
+
+class _OnSelection(_OnMesh):
+    """An operator on the vertices selected in Edit Mode: refused with a message when none
+    is; else `on_selection(context, ob, indices)` does the work."""
+    modes = ('EDIT',)
 
     def execute(self, context):
         ob = context.active_object
         idx = _selected(self, ob)
         if idx.size == 0:
             return {'CANCELLED'}
+        return self.on_selection(context, ob, idx)
+
+
+class EDGE_DEFORM_OT_add_handle(_OnSelection, bpy.types.Operator):
+    """Make the selected vertices a new handle, moved by a new Empty at their centroid; it
+    holds them where they are shown"""
+    bl_idname = "edge_deform.add_handle"
+    bl_label = "Add Handle"
+
+    name: StringProperty(name="Name", default="Handle",
+                         description="Name of the new vertex group (and its controller)")
+
+    def on_selection(self, context, ob, idx):
         s = ob.edge_deform
         with object_mode(ob):
             # Where the artist sees the vertices (on a deformed mesh: the shape shown, not
@@ -89,15 +105,11 @@ def hold_where_shown(ob, idx, where):
     mesh_io.hold_at(ob.data, rest, idx, where)
 
 
-class EDGE_DEFORM_OT_remove_handle(bpy.types.Operator):
+class EDGE_DEFORM_OT_remove_handle(_OnMesh, bpy.types.Operator):
     """Remove the active handle (its vertex group and controller are kept)"""
     bl_idname = "edge_deform.remove_handle"
     bl_label = "Remove Handle"
-    bl_options = {'REGISTER', 'UNDO'}
-
-    @classmethod
-    def poll(cls, context):
-        return poll_mesh(cls, context, need_handles=True)
+    need_handles = True
 
     def execute(self, context):
         ob = context.active_object
@@ -112,21 +124,12 @@ class EDGE_DEFORM_OT_remove_handle(bpy.types.Operator):
         return {'FINISHED'}
 
 
-class _SetGroup:
-    bl_options = {'REGISTER', 'UNDO'}
+class _SetGroup(_OnSelection):
     field = ""
     default = ""
     takes_from_handles = False   # Static: a vertex cannot be pinned and moved at once
 
-    @classmethod
-    def poll(cls, context):
-        return poll_mesh(cls, context, ('EDIT',))
-
-    def execute(self, context):
-        ob = context.active_object
-        idx = _selected(self, ob)
-        if idx.size == 0:
-            return {'CANCELLED'}
+    def on_selection(self, context, ob, idx):
         name = getattr(ob.edge_deform, self.field) or self.default
         with object_mode(ob):
             if self.takes_from_handles:   # as Add Handle takes them out of Static
@@ -186,12 +189,12 @@ def _stiffness_targets(op, ob):
     return np.arange(len(me.vertices))
 
 
-class EDGE_DEFORM_OT_assign_stiffness(bpy.types.Operator):
+class EDGE_DEFORM_OT_assign_stiffness(_OnMesh, bpy.types.Operator):
     """Set the stiffness of the selected vertices (Weight Paint: the masked vertices, or
     the whole mesh without a mask), like Set Weight"""
     bl_idname = "edge_deform.assign_stiffness"
     bl_label = "Assign Stiffness"
-    bl_options = {'REGISTER', 'UNDO'}
+    modes = ('EDIT', 'WEIGHT_PAINT')
 
     preset: EnumProperty(
         name="Preset", default='VALUE',
@@ -202,10 +205,6 @@ class EDGE_DEFORM_OT_assign_stiffness(bpy.types.Operator):
         description="The stiffness to give")
     value: FloatProperty(name="λ", default=1.0, min=0.0, max=1.0,
                          description="Stiffness for Value: 1 rigid, 0 soft")
-
-    @classmethod
-    def poll(cls, context):
-        return poll_mesh(cls, context, ('EDIT', 'WEIGHT_PAINT'))
 
     def execute(self, context):
         ob = context.active_object
@@ -220,15 +219,10 @@ class EDGE_DEFORM_OT_assign_stiffness(bpy.types.Operator):
         return {'FINISHED'}
 
 
-class EDGE_DEFORM_OT_paint_stiffness(bpy.types.Operator):
+class EDGE_DEFORM_OT_paint_stiffness(_OnMesh, bpy.types.Operator):
     """Paint the stiffness in Weight Paint (red = rigid, blue = soft)"""
     bl_idname = "edge_deform.paint_stiffness"
     bl_label = "Paint Stiffness"
-    bl_options = {'REGISTER', 'UNDO'}
-
-    @classmethod
-    def poll(cls, context):
-        return poll_mesh(cls, context)
 
     def execute(self, context):
         ob = context.active_object
@@ -243,16 +237,13 @@ class EDGE_DEFORM_OT_paint_stiffness(bpy.types.Operator):
 # Select Controller and Select Mesh: the panel's buttons that move the selection between a
 # deformed mesh and the controller of its active handle (ready for G/R/S or its gizmo).
 
-class EDGE_DEFORM_OT_select_controller(bpy.types.Operator):
+class EDGE_DEFORM_OT_select_controller(_OnMesh, bpy.types.Operator):
     """Make the active handle's controller the active, only selected object, ready to move
     with G/R/S or its gizmo (the Edge Deform tab stays open)"""
     bl_idname = "edge_deform.select_controller"
     bl_label = "Select Controller"
-    bl_options = {'REGISTER', 'UNDO'}
-
-    @classmethod
-    def poll(cls, context):
-        return poll_mesh(cls, context, ('OBJECT',), need_handles=True)
+    modes = ('OBJECT',)
+    need_handles = True
 
     def execute(self, context):
         ob = context.active_object
@@ -264,33 +255,21 @@ class EDGE_DEFORM_OT_select_controller(bpy.types.Operator):
         if controller.name not in context.view_layer.objects:
             tell(self, 'ERROR', "The controller is not in this view layer")
             return {'CANCELLED'}
-        for other in context.view_layer.objects:
-            if other is not None and other != controller:
-                other.select_set(False)
-        controller.select_set(True)
-        context.view_layer.objects.active = controller
+        select_only(context.view_layer, controller)
         return {'FINISHED'}
 
 
-class EDGE_DEFORM_OT_select_mesh(bpy.types.Operator):
+class EDGE_DEFORM_OT_select_mesh(_OnMesh, bpy.types.Operator):
     """Make the deformed mesh active again (after moving one of its controllers)"""
     bl_idname = "edge_deform.select_mesh"
     bl_label = "Select Mesh"
-    bl_options = {'REGISTER', 'UNDO'}
-
-    @classmethod
-    def poll(cls, context):
-        return poll_mesh(cls, context, ('OBJECT',))
+    modes = ('OBJECT',)
 
     def execute(self, context):
         ob = context.active_object
         if ob.name not in context.view_layer.objects:
             return {'CANCELLED'}
-        for other in context.view_layer.objects:
-            if other is not None and other != ob:
-                other.select_set(False)
-        ob.select_set(True)
-        context.view_layer.objects.active = ob
+        select_only(context.view_layer, ob)
         return {'FINISHED'}
 
 

@@ -25,11 +25,26 @@ def target(layout, context):
     return ob
 
 
+def drawn_for(panel, context):
+    """(the panel's layout, the mesh it works on, the mesh's settings); see target()."""
+    ob = target(panel.layout, context)
+    return panel.layout, ob, ob.edge_deform
+
+
 def narrow(context):
     """Is the sidebar narrower than its default (about 230 px at 100 % scale)? Rows of
     three buttons stack then."""
     region = context.region
     return region is not None and region.width < 200 * context.preferences.system.ui_scale
+
+
+def group_field(layout, label, operator, icon, ob, field):
+    """A vertex group setting: its label with the operator that fills it beside it (the
+    group's name gets the whole row below)."""
+    row = layout.row()
+    row.label(text=label)
+    row.operator(operator, text="", icon=icon)
+    layout.prop_search(ob.edge_deform, field, ob, "vertex_groups", text="")
 
 
 class _Panel:
@@ -70,9 +85,7 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
             self.layout.label(text="", icon='ERROR')
 
     def draw(self, context):
-        layout = self.layout
-        ob = target(self.layout, context)
-        s = ob.edge_deform
+        layout, ob, s = drawn_for(self, context)
         bound = lifecycle.is_bound(ob.data)
         active = context.active_object
         if active != ob:   # (short labels: each reads in full in a 170 px sidebar)
@@ -126,9 +139,7 @@ class EDGE_DEFORM_PT_handles(_SubPanel, bpy.types.Panel):
     bl_label = "Handles"
 
     def draw(self, context):
-        layout = self.layout
-        ob = target(self.layout, context)
-        s = ob.edge_deform
+        layout, ob, s = drawn_for(self, context)
         # The list's buttons beside it, or under it in a narrow sidebar (the list is the
         # only place the handles' names are listed: it gets the whole width there).
         if narrow(context):
@@ -157,9 +168,7 @@ class EDGE_DEFORM_PT_groups(_SubPanel, bpy.types.Panel):
     bl_label = "Static and Region"
 
     def draw(self, context):
-        layout = self.layout
-        ob = target(self.layout, context)
-        s = ob.edge_deform
+        layout, ob, s = drawn_for(self, context)
         for field, op, label in (("static_group", "edge_deform.set_static", "Static"),
                                  ("roi_group", "edge_deform.set_roi", "Region")):
             # The button beside the label: the group's name gets the whole row. (An
@@ -167,10 +176,7 @@ class EDGE_DEFORM_PT_groups(_SubPanel, bpy.types.Panel):
             col = layout.column()
             # Proportional picks the region while on: the Region group is not read.
             col.active = field != "roi_group" or not s.proportional
-            row = col.row()
-            row.label(text=label)
-            row.operator(op, text="", icon='ADD')
-            col.prop_search(s, field, ob, "vertex_groups", text="")
+            group_field(col, label, op, 'ADD', ob, field)
         layout.prop(s, "proportional")
         col = layout.column()
         col.active = s.proportional
@@ -183,16 +189,13 @@ class EDGE_DEFORM_PT_stiffness(_SubPanel, bpy.types.Panel):
     bl_label = "Stiffness"
 
     def draw(self, context):
-        layout = self.layout
-        ob = target(self.layout, context)
-        s = ob.edge_deform
+        layout, ob, s = drawn_for(self, context)
         row = layout.row()
         row.active = not s.stiffness_group   # a group overrides the global value
         row.prop(s, "stiffness", slider=True, text="λ")
-        row = layout.row()   # (the sub-panel says it is stiffness)
-        row.label(text="Painted Group")
-        row.operator("edge_deform.paint_stiffness", text="", icon='BRUSH_DATA')
-        layout.prop_search(s, "stiffness_group", ob, "vertex_groups", text="")
+        # (The sub-panel says it is stiffness.)
+        group_field(layout, "Painted Group", "edge_deform.paint_stiffness", 'BRUSH_DATA', ob,
+                    "stiffness_group")
         if s.stiffness_group:
             layout.label(text="Group sets λ", icon='INFO')
         # Side by side, or stacked in a narrow sidebar (else cut to "Med…" and "Rig…").
@@ -213,9 +216,7 @@ class EDGE_DEFORM_PT_solver(_SubPanel, bpy.types.Panel):
     bl_options = {'DEFAULT_CLOSED'}
 
     def draw(self, context):
-        layout = self.layout
-        ob = target(self.layout, context)
-        s = ob.edge_deform
+        layout, ob, s = drawn_for(self, context)
         # Side by side, or stacked in a narrow sidebar (else cut to "Vertex Gr…").
         (layout.column() if narrow(context) else layout.row()).prop(s, "domain", expand=True)
         if s.domain == 'PRIMAL' and not s.stiffness_group and s.stiffness < 0.1:
@@ -240,9 +241,7 @@ class EDGE_DEFORM_PT_animation(_SubPanel, bpy.types.Panel):
     bl_options = {'DEFAULT_CLOSED'}
 
     def draw(self, context):
-        layout = self.layout
-        ob = target(self.layout, context)
-        s = ob.edge_deform
+        layout, ob, s = drawn_for(self, context)
         layout.prop(s, "animate", text="Every Frame")   # (the full name: the tooltip)
         problem = operators_bind.frame_problem(ob) if s.animate else None
         if problem:

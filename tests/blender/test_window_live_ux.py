@@ -203,7 +203,7 @@ def steps():
     yield from until(lambda: "stopped after" in (tool.status_text or ""), 60)
     assert ("stopped after" in tool.status_text and "not converged" in tool.status_text
             and "move a controller to go on" in tool.status_text), tool.status_text
-    assert tool.settle_iterations >= modal_rules.SETTLE_LIMIT
+    assert tool.settle.iterations >= modal_rules.SETTLE_LIMIT
     updates, shape = tool.updates, key_positions(ob).copy()
     for _ in range(30):
         yield
