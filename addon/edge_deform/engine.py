@@ -285,7 +285,7 @@ class NothingFree(mesh_io.EdgeDeformError):
                          % (self.reason, WHERE_TO_CHANGE))
 
 
-# ------------------------------------------------------------------ the cache: when a Binding may be used
+# ------------------------------------------------------- the cache: when a Binding may be used
 # It decides when a mesh's cached Binding may be used (same topology digest,
 # rest shape and domain), builds a new one in stages when not, and is the one way to forget
 # a mesh's Binding (Apply, Unbind, a cancelled tool, undo, a file load) or to make its next

@@ -246,7 +246,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         """Blender's G way: the tool's state in the header while it runs, short enough for
         a narrow view (its keys are in the status bar, as G's are)."""
         s = self.ob.edge_deform
-        region = self.refused or modal.describe(s, self.settle.runs_long)
+        region = self.refused or modal.describe_region(s, self.settle.runs_long)
         if self.state == Grab.WAITING:
             self.header("Grab Deform: %d vertices | move the pointer in the view to drag | %s"
                         % (self.n_moving, region))

@@ -235,12 +235,12 @@ def record_rest_transforms(ob):
 # Keep the session cache honest across file loads and undo, and tell running tools; keep
 # no deleted controller in a saved file.
 #
-# Undo and file loads replace mesh datablocks, so cached bindings may point at freed meshes
-# (whose addresses Blender may reuse). Every cache hit is re-checked anyway (topology and rest
-# shape, engine.binding_steps); this frees memory early, and counts undo/redo steps so that a modal
-# tool notices that the data it holds were replaced and ends cleanly. Before a save, handles
-# let go of controllers deleted from every scene (lifecycle.forget_deleted_controllers), so
-# the file does not keep them outside every collection.
+# Undo and file loads replace mesh datablocks, so cached bindings may point at freed
+# meshes (whose addresses Blender may reuse). Every cache hit is re-checked anyway (topology
+# and rest shape, engine.binding_steps); this frees memory early, and counts undo/redo steps
+# so that a modal tool notices that the data it holds were replaced and ends cleanly. Before
+# a save, handles let go of controllers deleted from every scene (forget_deleted_controllers
+# above), so the file does not keep them outside every collection.
 
 _generation = [0]
 

@@ -330,7 +330,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                      else "%s stiffness" % self.keys_label)
         self.text.set([self.status_text,
                        "Enter keep · Esc cancel · %s · %s" % (stiffness, self.hint),
-                       "%s · %s" % (modal.describe(s, self.settle.runs_long),
+                       "%s · %s" % (modal.describe_region(s, self.settle.runs_long),
                                     modal.KEYS)])
 
     def end_report(self):
@@ -576,7 +576,7 @@ class EDGE_DEFORM_OT_live_transform_keys(bpy.types.Operator):
 CLASSES = (EDGE_DEFORM_OT_live, EDGE_DEFORM_OT_live_transform_keys)
 
 
-# ------------------------------------------------------------------ what Live changes around its mesh
+# ----------------------------------------------------------- what Live changes around its mesh
 # What Live Deform changes around its mesh, and gives back (docs/decisions/0042).
 #
 # - The selection. Started with the mesh active, Live makes the active handle's controller

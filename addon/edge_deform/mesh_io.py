@@ -20,7 +20,7 @@ _READER_OBJECT = ".EdgeDeformReader"      # temporary object sharing the mesh
 _READER_PREFIX = ".ed_w"
 
 
-# ---------------------------------------------------------------- geometry
+# ------------------------------------------------------------------ geometry
 
 def _positions(mesh):
     """(collection, property) of the vertex positions: the "position" attribute where
@@ -113,7 +113,7 @@ def matrix_to_numpy(matrix):
     return np.array(matrix, dtype=np.float64)
 
 
-# ---------------------------------------------------------------- shape keys
+# ------------------------------------------------------------------ shape keys
 
 def read_key(key_block):
     """A shape key's positions, float32 (n,3)."""
@@ -128,7 +128,7 @@ def write_key(key_block, co):
     collection.foreach_set(prop, np.ascontiguousarray(co, np.float32).ravel())
 
 
-# ---------------------------------------------------------------- point attributes
+# ------------------------------------------------------------------ point attributes
 
 def write_vector_attribute(mesh, name, X):
     attr = mesh.attributes.get(name)
@@ -155,7 +155,7 @@ def remove_attribute(mesh, name):
         mesh.attributes.remove(attr)
 
 
-# ---------------------------------------------------------------- vertex groups
+# ------------------------------------------------------------------ vertex groups
 
 def _new_reader_group(names):
     """Geometry-nodes group copying each vertex group into a float point attribute."""

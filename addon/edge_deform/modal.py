@@ -178,7 +178,7 @@ def toggle_key(event):
     return "proportional_connected" if event.alt else "proportional"
 
 
-def describe(settings, running_long=False):
+def describe_region(settings, running_long=False):
     """What the header and the text over the view say about the region; with
     `running_long` (a whole-mesh settle has run long), that a radius would be quicker."""
     if not settings.proportional:
@@ -199,14 +199,15 @@ def kept(exc, settings):
     """A running tool's words for a radius or toggle that freed nothing: the reason and
     the radius kept (its keys are over the view or in the status bar)."""
     reason = exc.reason if isinstance(exc, engine.NothingFree) else str(exc)
-    return "%s; kept %s" % (reason, describe(settings))
+    return "%s; kept %s" % (reason, describe_region(settings))
 
 
 def short_kept(exc, settings):
     """kept() for a header: "Proportional: 4.77 cm kept (4.33 cm frees no vertex)"."""
     if not isinstance(exc, engine.NothingFree):
         return kept(exc, settings)
-    return "%s kept (%s frees no vertex)" % (describe(settings), engine.length(exc.radius))
+    return "%s kept (%s frees no vertex)" % (describe_region(settings),
+                                             engine.length(exc.radius))
 
 
 def held_within(X, sources, radius, held):

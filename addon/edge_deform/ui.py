@@ -1,7 +1,7 @@
 """The "Edge Deform" tab in the 3D Viewport sidebar: a main panel with the actions and
 collapsible sub-panels (Handles, Groups, Stiffness, Solver, Animation), like Blender's own
-tools, and the menu entries (at the end). Labels sit above fields whose values are long (vertex group names), so everything
-stays readable at the default sidebar width.
+tools, and the menu entries (at the end). Labels sit above fields whose values are long
+(vertex group names), so everything stays readable at the default sidebar width.
 
 The panel also shows while a controller of a deformed mesh is active (the artist picked it
 in the viewport or the Outliner to move it): it then works on that mesh, and its buttons
