@@ -84,7 +84,7 @@ def scene(mesh_name, splits, radius_fraction):
 def radius_steps(ob, empty, step, rounds):
     """(grow ms, shrink ms, free vertices): medians of `rounds` wheel steps, each as Live
     takes it (ObjectSolver.region_changed, then one update started from the shape shown)."""
-    from edge_deform import shown_shape
+    from edge_deform import mesh_io
     s = ob.edge_deform
     bound = lifecycle.prepare(ob)
     times = {STEP: [], 1.0 / STEP: []}
@@ -95,7 +95,7 @@ def radius_steps(ob, empty, step, rounds):
             bound.region_changed()
             empty.location = tuple(np.array(empty.location) + step)
             bpy.context.view_layer.update()
-            initial = shown_shape.addon_shape(ob) if bound.binding.starts_cold else None
+            initial = mesh_io.addon_shape(ob) if bound.binding.starts_cold else None
             r = bound.solve(bound.targets(), 1, 0.0, warm=True, initial=initial)
             bound.write(r.positions)
             times[factor].append((time.perf_counter() - t0) * 1e3)

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Live settling: how long the add-on's Live Deform takes to settle after the mouse stops.
 
-Replays what Live does on its 60 Hz timer (addon/edge_deform/operators_live.py) with the
-add-on's own settle policy (addon/edge_deform/settle.py, loaded by its path): each tick
+Replays what Live does on its 60 Hz timer (addon/edge_deform/live.py) with the
+add-on's own settle policy (addon/edge_deform/modal_rules.py, loaded by its path): each tick
 warm solves with the controllers' current targets for the policy's time budget. The scripted drag moves the handles from rest to the lift's targets
 in small equal steps, one per tick; then the targets stand still and the ticks go on
 until Live's policy calls the shape settled (a convergence claim its solve was asked to
@@ -20,7 +20,7 @@ of 1e-10 diag). Not modelled: writing the shape into Blender's mesh each tick.
 anderson is the package's default, what the add-on's Automatic gets); a comma-separated
 list runs a row for each; "auto" (the default, what the add-on's Automatic gets) is L-BFGS at
 λ 1 and Anderson below, and the row's `ran` names what ran.
---claims checked,unchecked: "checked" is the add-on's policy (settle.py: a still tick's solve
+--claims checked,unchecked: "checked" is the add-on's policy (modal_rules.py: a still tick's solve
 checks a convergence claim, verify_claims); "unchecked" replays the policy before that
 check (a row each).
 
@@ -54,10 +54,10 @@ from bench_convergence import cached_reference  # noqa: E402
 from edits import MESH_FILES, diagonal, edit, mesh_path  # noqa: E402
 from machine import machine_info  # noqa: E402
 
-TIMER_MS = 1000.0 / 60.0       # Live's timer (modal_tool.ModalTool)
+TIMER_MS = 1000.0 / 60.0       # Live's timer (modal.ModalTool)
 # The add-on's settle policy (bpy-free): the tick's time budget, "settled", the give-up.
 _spec = importlib.util.spec_from_file_location(
-    "edge_deform_settle", ROOT / "addon" / "edge_deform" / "settle.py")
+    "edge_deform_settle", ROOT / "addon" / "edge_deform" / "modal_rules.py")
 settle = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(settle)
 TOLERANCE = 1e-3               # the add-on's default Tolerance setting
@@ -166,7 +166,7 @@ def markdown(result):
         "Iteration and tick counts are exact; times depend on the machine's load.",
         "",
         "Live Deform replayed without Blender: a 60 Hz tick warm solves for the add-on's "
-        f"time budget (settle.py: {settle.TICK_BUDGET_MS:g} ms on a quick redraw). The drag lifts the handles "
+        f"time budget (modal_rules.py: {settle.TICK_BUDGET_MS:g} ms on a quick redraw). The drag lifts the handles "
         "to the lift edit's targets in equal steps, one per tick; then the targets stand "
         "still and ticks go on until the policy calls it settled. Wall = Σ max(1/60 s, tick's "
         "solve time), without writing the mesh. Distance: the settled shape to the cold "

@@ -29,7 +29,7 @@ EDIT_FRAME = 24
 
 def import_package_first():
     """Import the top-level `edgedeform` (build/python on PYTHONPATH) before the add-on is
-    enabled, so that the add-on uses this copy (edge_deform/native.py) instead of loading its
+    enabled, so that the add-on uses this copy (edge_deform/compat.py, native_package) instead of loading its
     bundled one: regions.scene_mesh reads the meshes with the top-level package, and a second
     copy of the compiled module cannot load into the same Python (pybind11: 'type
     "SolveResult" is already registered!'). With the add-on installed, as scripts/demo.sh
@@ -129,9 +129,9 @@ def show_edit(ob, sc):
     and solve at the edit frame, so the mesh shows its deformation (shape key EdgeDeform)
     where the controllers are. Without the compiled solver, open at frame 1 instead: the
     mesh at rest and the controllers at rest. Returns the frame the file opens on."""
-    from edge_deform import native
+    from edge_deform import compat
     try:
-        native.get()
+        compat.native_package()
     except ImportError as exc:
         print("make_samples: %s; %s opens at frame 1 (at rest)" % (exc, ob.name))
         sc.frame_set(1)

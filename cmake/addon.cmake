@@ -132,11 +132,11 @@ if(CMAKE_SCRIPT_MODE_FILE)
       COMMAND ${ED_BLENDER} -b --python-exit-code 1 --python-expr
         "import addon_utils, bpy, sys
 mod = addon_utils.enable('edge_deform', default_set=True, handle_error=None)
-from edge_deform import native
-native.get()   # the bundled module must load in this Blender
+from edge_deform import compat
+compat.native_package()   # the bundled module must load in this Blender
 assert hasattr(bpy.types.Object, 'edge_deform')
 bpy.ops.wm.save_userpref()
-print('EDGEDEFORM_ENABLED', mod.__file__, native.get().__file__)"
+print('EDGEDEFORM_ENABLED', mod.__file__, compat.native_package().__file__)"
       RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
     if(NOT rc EQUAL 0 OR NOT out MATCHES "EDGEDEFORM_ENABLED")
       message(FATAL_ERROR "Installed, but enabling the add-on failed:\n${out}\n${err}")

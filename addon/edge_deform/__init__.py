@@ -16,19 +16,13 @@ bl_info = {
 
 import bpy
 
-from . import (cache_handlers, frame_handler, menus, operators_bake, operators_bind,
-               operators_grab, operators_groups, operators_live, operators_select,
-               preferences, properties, solver_cache, ui)
+from . import engine, grab, lifecycle, live, operators_bind, operators_groups, properties, ui
 
-# Where things are: lifecycle.py owns the rest shape, the output and their invalidation
-# (checks in output_checks.py, writes in output.py); engine.py turns settings into solver
-# inputs; mesh_arrays.py moves bpy data to NumPy; solver_cache.py owns the in-memory
-# solver cache (session.py); operators_*.py talk to the user, ui.py draws the panel.
+# Where things are: docs/design.md, "The add-on", lists each module's job.
 
 _register, _unregister = bpy.utils.register_classes_factory(
     properties.CLASSES + operators_groups.CLASSES + operators_bind.CLASSES
-    + operators_live.CLASSES + operators_grab.CLASSES + operators_bake.CLASSES
-    + operators_select.CLASSES + ui.CLASSES + menus.CLASSES + preferences.CLASSES)
+    + live.CLASSES + grab.CLASSES + ui.CLASSES)
 
 
 def _link_manual():
@@ -39,7 +33,7 @@ def _link_manual():
     if info is None:   # a 4.2+ extension: Blender drops bl_info; its manifest speaks for it
         return
     import addon_utils
-    url = preferences.manual_url()
+    url = properties.manual_url()
     info["doc_url"] = url
     addon_utils.modules(refresh=False)   # (parses bl_info once, as the Preferences do)
     fake = addon_utils.addons_fake_modules.get(__name__)
@@ -51,15 +45,15 @@ def register():
     _link_manual()
     _register()
     properties.register_props()
-    frame_handler.register_handlers()
-    cache_handlers.register_handlers()
-    menus.register_menus()
+    operators_bind.register_handlers()
+    lifecycle.register_handlers()
+    ui.register_menus()
 
 
 def unregister():
-    menus.unregister_menus()
-    cache_handlers.unregister_handlers()
-    frame_handler.unregister_handlers()
+    ui.unregister_menus()
+    lifecycle.unregister_handlers()
+    operators_bind.unregister_handlers()
     properties.unregister_props()
     _unregister()
-    solver_cache.forget_all()
+    engine.forget_all()

@@ -1,21 +1,27 @@
-"""Turn the object's settings into solver inputs and controller targets; describe results.
+"""The solver bridge: the object's settings as solver inputs and controller targets, the
+method a solve asks for, results in the artist's words, and the session's cache of one
+bound Deformer (a Binding) per mesh.
 
-Pure reading and arithmetic: nothing here writes bpy data (lifecycle.py owns the rest
-shape, the output and the controllers' rest transforms). Mesh data is read only through
-mesh_arrays; settings and transforms are read as attributes.
+Reading and arithmetic: nothing here writes bpy data (lifecycle.py decides when the mesh
+is written, mesh_io.py writes it). Mesh data is read only through mesh_io; settings and
+transforms are read as attributes. This module alone reads or writes the cache.
 """
 
 import dataclasses
+import enum
+import hashlib
+import itertools
+import time
 from dataclasses import dataclass
 from typing import List
 
+import bpy
 import numpy as np
 
-from . import handle_holds, mesh_arrays, native
+from . import compat, mesh_io
 
 
-class EdgeDeformError(Exception):
-    """A problem the user can fix; operators report the message and cancel."""
+Refused = mesh_io.EdgeDeformError
 
 
 @dataclass
@@ -47,11 +53,11 @@ def gather_inputs(ob, require_handles=True):
     """Read the settings and vertex groups of `ob`; raise EdgeDeformError on bad input."""
     s = ob.edge_deform
     if require_handles and not s.handles:
-        raise EdgeDeformError("No handles: select vertices in Edit Mode and use Add Handle")
+        raise Refused("No handles: select vertices in Edit Mode and use Add Handle")
     names = []
     for h in s.handles:
         if not h.vertex_group:
-            raise EdgeDeformError("A handle has no vertex group")
+            raise Refused("A handle has no vertex group")
         names.append(h.vertex_group)
     # Proportional on: the radius picks the region and the Region group is not read
     # (docs/decisions/0056).
@@ -61,23 +67,22 @@ def gather_inputs(ob, require_handles=True):
             names.append(name)
     for name in names:
         if name not in ob.vertex_groups:
-            raise EdgeDeformError("Vertex group '%s' does not exist (deleted or renamed?): "
-                                  "pick a group in the Edge Deform panel" % name)
-    weights = mesh_arrays.read_group_weights(ob, names)
-    holds = handle_holds.offsets(ob.data)
+            raise Refused("Vertex group '%s' does not exist (deleted or renamed?): "
+                          "pick a group in the Edge Deform panel" % name)
+    weights, holds = mesh_io.read_groups_and_holds(ob, names)
 
     groups, seen = [], np.zeros(len(ob.data.vertices), np.int32)
     for h in s.handles:
         idx = _members(weights[h.vertex_group])
         if idx.size == 0:
-            raise EdgeDeformError("Handle group '%s' is empty" % h.vertex_group)
+            raise Refused("Handle group '%s' is empty" % h.vertex_group)
         seen[idx] += 1
         groups.append(HandleInput(h.vertex_group, idx, h.controller,
                                   h.rest_matrix.inverted_safe(),
                                   None if holds is None else holds[idx]))
     if np.any(seen > 1):
         v = int(np.flatnonzero(seen > 1)[0])
-        raise EdgeDeformError("Vertex %d belongs to two handle groups; a vertex can follow "
+        raise Refused("Vertex %d belongs to two handle groups; a vertex can follow "
                               "only one handle" % v)
     handles = (np.concatenate([g.indices for g in groups]) if groups
                else np.zeros(0, np.int64))
@@ -86,16 +91,16 @@ def gather_inputs(ob, require_handles=True):
     if s.static_group:
         static = _members(weights[s.static_group])
         if static.size == 0:
-            raise EdgeDeformError("Static group '%s' is empty" % s.static_group)
+            raise Refused("Static group '%s' is empty" % s.static_group)
         overlap = np.intersect1d(static, handles)
         if overlap.size:
-            raise EdgeDeformError("%d vertices are both handle and static (e.g. vertex %d)"
+            raise Refused("%d vertices are both handle and static (e.g. vertex %d)"
                                   % (overlap.size, overlap[0]))
     roi = None
     if region_group:
         roi = _members(weights[region_group])
         if roi.size == 0:
-            raise EdgeDeformError("Region group '%s' is empty" % region_group)
+            raise Refused("Region group '%s' is empty" % region_group)
     if s.stiffness_group:
         stiffness = np.clip(weights[s.stiffness_group].astype(np.float64), 0.0, 1.0)
     else:
@@ -161,7 +166,7 @@ def handle_targets(ob, X, inputs):
     its controller's transform relative to the object since the rest (like a Hook), so
     moving the object together with controllers parented to it deforms nothing. What it
     moves is where the handle holds its vertices: the rest, plus their offsets
-    (handle_holds.py).
+    (mesh_io.hold_offsets).
     4x4 products in mathutils and the per-vertex product with einsum: no BLAS/LAPACK
     call here, whose thread pool would fight the solver's OpenMP threads every update.
     """
@@ -198,6 +203,10 @@ def controller_state(ob, inputs):
         for g in inputs.handle_groups)
 
 
+# Acceleration "Automatic" (the default) names no method, so the package's own rule picks
+# it (acceleration="auto": L-BFGS where λ = 1 on every term, Anderson below; docs/api.md,
+# records 0043 and 0070); a method named here would override that rule.
+AUTOMATIC = 'AUTO'
 # The accelerations an artist may pick besides Automatic: (property item, the package's
 # name). The add-on offers those of them that this build of the package has (its
 # ACCELERATIONS).
@@ -210,7 +219,7 @@ def offered_accelerations():
     """The package's names of the accelerations this build of `edgedeform` solves with
     (edgedeform.ACCELERATIONS), in the add-on's order."""
     try:
-        known = native.get().ACCELERATIONS
+        known = compat.native_package().ACCELERATIONS
     except ImportError:
         return list(_WITHOUT_PACKAGE)
     return [name for _, name in ACCELERATIONS if name in known]
@@ -246,4 +255,350 @@ def solve_report(result, waited_s, iterations):
 
 # Exceptions an operator turns into a report; the package's FactorizationError is a
 # RuntimeError.
-USER_ERRORS = (EdgeDeformError, ValueError, IndexError, ImportError, RuntimeError)
+USER_ERRORS = (mesh_io.EdgeDeformError, ValueError, IndexError, ImportError, RuntimeError)
+
+
+# The proportional radius refused in the artist's words (the core's NoFreeVertexError).
+WHERE_TO_CHANGE = "the Edge Deform panel, Static and Region"
+
+
+def length(value):
+    """A length in the scene's units, as Blender's fields write it ("0.35 m")."""
+    units = bpy.context.scene.unit_settings
+    try:
+        return bpy.utils.units.to_string(units.system, 'LENGTH',
+                                         value * units.scale_length, precision=3)
+    except (AttributeError, TypeError, ValueError):
+        return "%.3g" % value
+
+
+class NothingFree(mesh_io.EdgeDeformError):
+    """The core's NoFreeVertexError, in plain words, with what was tried.
+    Its text is for a tool that is not running: the panel is where the radius changes."""
+
+    def __init__(self, radius, connected, reason=None):
+        self.radius, self.connected = radius, connected
+        self.reason = reason or ("No vertex can move within %s of the handles%s (they are "
+                                 "too far, or Static holds them)" % (
+                                     length(radius), " along the mesh" if connected else ""))
+        super().__init__("%s: make the Radius larger or turn Proportional off (%s)"
+                         % (self.reason, WHERE_TO_CHANGE))
+
+
+# ------------------------------------------------------- the cache: when a Binding may be used
+# It decides when a mesh's cached Binding may be used (same topology digest,
+# rest shape and domain), builds a new one in stages when not, and is the one way to forget
+# a mesh's Binding (Apply, Unbind, a cancelled tool, undo, a file load) or to make its next
+# solve start cold (a tool ended, Bake's first frame).
+#
+# The stages are generators yielding (fraction, status text) before each long step; a new
+# Binding enters the cache only after its last step, so closing one early changes nothing.
+
+
+
+def _count(n):
+    """150k, 1.2M: a count for a status text."""
+    for size, unit in ((1e6, "M"), (1e3, "k")):
+        if n >= size:
+            return "%.3g%s" % (n / size, unit)
+    return str(n)
+
+
+def _graph_steps(binding, inputs, what, fractions, owner):
+    """Build `binding`'s graph for inputs.domain and factor it: yields (fraction, text)
+    before each of these two long stages (the status text names the work)."""
+    graph = "edge" if inputs.domain == 'EDGE' else "vertex"
+    yield fractions[0], "%s: building the %s graph of %d triangles…" % (
+        what, graph, len(binding.F))
+    binding.build(compat.native_package(), inputs.domain)
+    yield fractions[1], "%s: factoring %s graph nodes…" % (
+        what, _count(binding.deformer.n_nodes))
+    sync(binding, inputs, owner)   # (Binding.bind_ms: the compute time)
+
+
+def sync(binding, inputs, owner):
+    """binding.sync, with the core's refusal of a radius that frees nothing in plain
+    words."""
+    try:
+        binding.sync(compat.native_package(), inputs, owner)
+    except ValueError as exc:
+        raise plain(exc, inputs.roi_radius, inputs.roi_connected) from None
+
+
+def plain(exc, radius, connected):
+    """The error to report for the core's ValueError `exc`."""
+    if radius is not None and isinstance(exc, compat.native_package().NoFreeVertexError):
+        return NothingFree(radius, connected)
+    return exc
+
+
+def new_binding_steps(mesh, inputs, X, digest, what, fractions, owner):
+    """A new Binding of `mesh` for the rest shape X, built in stages, then cached in place
+    of the mesh's old one (which stays until the new one is complete)."""
+    F = mesh_io.read_triangles(mesh)
+    if F.shape[0] == 0:
+        raise Refused("The mesh has no faces")
+    binding = Binding(mesh.as_pointer(), mesh_io.topology_counts(mesh), digest,
+                              X, F)
+    yield from _graph_steps(binding, inputs, what, fractions, owner)
+    _bindings[binding.mesh_pointer] = binding
+    return binding
+
+
+def binding_steps(mesh, inputs, X, digest, what, fractions, owner):
+    """The cached Binding of `mesh` for this rest shape and domain, synced to `inputs`; a
+    stale one (or one of the other domain) is replaced (new_binding_steps)."""
+    binding = cached_binding(mesh.as_pointer())
+    if (binding is not None and binding.digest == digest
+            and binding.rest_key == rest_key(X) and binding.domain == inputs.domain):
+        sync(binding, inputs, owner)
+        return binding
+    return (yield from new_binding_steps(mesh, inputs, X, digest, what, fractions, owner))
+
+
+def cached_inputs(ob):
+    """The inputs of this object's last sync (playback: groups cannot change), or None
+    (also when the proportional settings changed since)."""
+    binding = cached_binding(ob.data.as_pointer())
+    inputs = None if binding is None else binding.inputs_of(ob.name_full)
+    if inputs is None or binding.counts != mesh_io.topology_counts(ob.data):
+        return None
+    if region_radius(ob.edge_deform) != (inputs.roi_radius, inputs.roi_connected):
+        return None     # the radius changed: read again (off: the Region group is read)
+    return with_global_changes(inputs, ob)
+
+
+def is_cached(mesh):
+    return cached_binding(mesh.as_pointer()) is not None
+
+
+def start_cold(mesh):
+    """The next solve of this mesh starts from the rest shape, not from the last result
+    (a tool ended or was cancelled; Bake's first frame). The Binding stays."""
+    binding = cached_binding(mesh.as_pointer())
+    if binding is not None:
+        binding.start_cold()
+
+
+def forget(mesh):
+    """Drop the mesh's Binding: the next solve binds again (Apply, Unbind, a restore)."""
+    _bindings.pop(mesh.as_pointer(), None)
+
+
+def forget_all():
+    """A file load or the add-on's unregister: no cached Binding is valid any more."""
+    _bindings.clear()
+
+
+def forget_all_but(mesh_pointers):
+    """Undo or redo: forget the meshes that no longer exist."""
+    for key in [key for key in _bindings if key not in mesh_pointers]:
+        del _bindings[key]
+
+
+# ------------------------------------------------------------------ the cache's entries
+# Session cache: one Binding (a Deformer and its arrays) per mesh, for this Blender session.
+#
+# Keyed by the mesh datablock pointer; each entry also remembers the topology (counts and a
+# digest) and the settings it was built from, so a stale entry is rebuilt, never reused.
+# Entries are plain Python objects: they die with the session, and nothing here touches bpy.
+# Only the functions above read or write the entries (they decide when one may be trusted,
+# and are the one way to forget one); a Binding's state changes only through its methods.
+
+_bindings = {}
+_systems = itertools.count(1)   # Binding.system: unique over the session's Bindings
+
+
+def _digest(*arrays):
+    h = hashlib.blake2b(digest_size=16)
+    for a in arrays:
+        if a is None:
+            h.update(b"none")
+        else:
+            a = np.ascontiguousarray(a)
+            h.update(str((a.dtype.str, a.shape)).encode())
+            h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def _region(roi, roi_radius, roi_connected, roi_from=None):
+    """set_constraints' region arguments: a list of vertices or a radius (the core refuses
+    both at once), measured from roi_from (None: every handle)."""
+    if roi_radius is None:
+        return {"roi": roi}
+    return {"roi_radius": roi_radius, "roi_connected": roi_connected, "roi_from": roi_from}
+
+
+class Constraints(enum.Enum):
+    """Whose handles the Deformer holds."""
+    NONE = "none"            # none yet, or released: the next sync sets the settings'
+    SETTINGS = "settings"    # the object's settings (handles, static, region)
+    GRAB = "grab"            # Grab Deform's selection, until it ends
+
+
+class Binding:
+    """A Deformer bound to one mesh, with the constraints and stiffness it was given.
+
+    Read-only for everyone else: the mesh's identity (`mesh_pointer`, `counts`, `digest`),
+    its rest shape `X`, triangles `F`, the `deformer`, the `domain`, the `system` it
+    solves and the `inputs` (with their owner) last synced. Changed only by build, sync,
+    hold_grab, release_grab and start_cold."""
+
+    def __init__(self, mesh_pointer, counts, digest, X, F):
+        self.mesh_pointer = mesh_pointer
+        self.counts = counts
+        self.digest = digest
+        self.X = X                  # rest positions (n,3) float64, object space
+        self.F = F                  # loop triangles (m,3) int64
+        self.rest_key = _digest(X)
+        self._bind_ms = 0.0
+        self._deformer = None
+        self._domain = None
+        self._inputs = None
+        self._inputs_owner = None
+        self._constraints = Constraints.NONE
+        self._constraint_key = None
+        self._stiffness_key = None
+        # The next solve starts cold (a new graph or new constraints): a warm start would
+        # continue from a shape solved for other constraints.
+        self._cold_start_due = True
+        self._system = next(_systems)
+
+    # ---------------------------------------------------------------- reading
+
+    @property
+    def deformer(self):
+        return self._deformer
+
+    @property
+    def domain(self):
+        return self._domain
+
+    @property
+    def constraints(self):
+        return self._constraints
+
+    @property
+    def system(self):
+        """Names the system the solver iterates on: changes with the graph, the constraints
+        (the free vertices) and λ. The tools measure their speed again after a change
+        (modal_rules.Settle.tick)."""
+        return self._system
+
+    @property
+    def starts_cold(self):
+        """The next solve starts from scratch (a new graph or new constraints) unless it is
+        given a shape to start from (`initial`)."""
+        return self._cold_start_due
+
+    @property
+    def bind_ms(self):
+        """The compute time spent building and factoring this graph (not the wait around
+        it, which is what Bind reports)."""
+        return self._bind_ms
+
+    def inputs_of(self, owner):
+        """The inputs last synced for the object named `owner`, or None (another object's,
+        Grab's temporary constraints, or none yet)."""
+        if self._constraints != Constraints.SETTINGS or self._inputs_owner != owner:
+            return None
+        return self._inputs
+
+    # ---------------------------------------------------------------- changing
+
+    def build(self, ed, domain):
+        """A new Deformer (the graph) for `domain`; constraints and stiffness come next."""
+        t0 = time.perf_counter()
+        self._deformer = ed.Deformer(self.X, self.F, domain=domain.lower())
+        self._bind_ms = (time.perf_counter() - t0) * 1e3
+        self._domain = domain
+        self._constraints, self._constraint_key, self._stiffness_key = (
+            Constraints.NONE, None, None)
+        self._cold_start_due = True
+        self._system = next(_systems)
+
+    def sync(self, ed, inputs, owner):
+        """Bring the Deformer in line with `inputs` (the settings of the object named
+        `owner`), redoing only what changed.
+
+        Raises ValueError/IndexError from the package; the Binding then keeps its old state
+        for the parts that failed (their keys are only updated after success).
+        """
+        if self._deformer is None or self._domain != inputs.domain:
+            self.build(ed, inputs.domain)
+        t0, factored = time.perf_counter(), False
+        ckey = (_digest(inputs.handles, inputs.static, inputs.roi), inputs.roi_radius,
+                inputs.roi_connected)
+        # No handles (Grab Deform on a mesh without any: its selection is the handle, set
+        # by hold_grab next): there are no settings' constraints to set.
+        if inputs.handles.size and (self._constraints != Constraints.SETTINGS
+                                    or ckey != self._constraint_key):
+            factored = True
+            self._constraints, self._constraint_key = Constraints.NONE, None
+            self._system = next(_systems)
+            self._deformer.set_constraints(handles=inputs.handles, static=inputs.static,
+                                           **_region(inputs.roi, inputs.roi_radius,
+                                                     inputs.roi_connected))
+            self._constraints, self._constraint_key = Constraints.SETTINGS, ckey
+            self._cold_start_due = True
+        lam = inputs.stiffness
+        skey = ("f", float(lam)) if np.isscalar(lam) else ("a", _digest(lam))
+        if skey != self._stiffness_key:
+            factored = True
+            self._stiffness_key = None
+            self._system = next(_systems)
+            self._deformer.set_stiffness(lam)
+            self._stiffness_key = skey
+        if factored:
+            self._bind_ms += (time.perf_counter() - t0) * 1e3
+        self._inputs, self._inputs_owner = inputs, owner
+
+    def hold_grab(self, handles, static, roi, roi_radius=None, roi_connected=False,
+                  roi_from=None):
+        """Grab Deform's constraints (its selection), until release_grab."""
+        self._constraints, self._constraint_key = Constraints.NONE, None
+        self._system = next(_systems)
+        self._deformer.set_constraints(handles=handles, static=static,
+                                       **_region(roi, roi_radius, roi_connected, roi_from))
+        self._constraints = Constraints.GRAB
+        self._cold_start_due = True
+
+    def release_grab(self):
+        """Grab ended: the next sync sets the settings' constraints again."""
+        if self._constraints == Constraints.GRAB:
+            self._constraints, self._constraint_key = Constraints.NONE, None
+        self._cold_start_due = True
+
+    def start_cold(self):
+        """The next solve starts from the rest shape (a tool ended; Bake's first frame)."""
+        self._cold_start_due = True
+
+    def solve(self, targets, iterations, tolerance, acceleration, warm=True, initial=None,
+              check_claims=True):
+        """One solve call. acceleration: the package's name of a method, or None: the
+        package's measured rule chooses (docs/decisions/0043, 0070). warm: continue from the
+        previous solve unless a cold start is due (with unchanged targets that continues
+        the same accelerated iteration, so repeated short calls settle on the one long
+        call's shape). check_claims: a convergence claim is first checked against J_G's
+        slowest mode (the core's verify_claims: without it Live called the 50k koala
+        settled 4.7e-3 of its size away, docs/decisions/0025)."""
+        kwargs = dict(max_iterations=int(iterations), tolerance=float(tolerance),
+                      verify_claims=bool(check_claims))
+        if acceleration is not None:
+            kwargs["acceleration"] = acceleration
+        if initial is not None:
+            r = self._deformer.solve(targets, warm_start=False, initial=initial, **kwargs)
+        else:
+            r = self._deformer.solve(targets, warm_start=bool(warm and not self._cold_start_due),
+                                     **kwargs)
+        self._cold_start_due = False
+        return r
+
+
+def cached_binding(mesh_pointer):
+    """The mesh's Binding as cached, unchecked (is_cached, the tests)."""
+    return _bindings.get(mesh_pointer)
+
+
+def rest_key(X):
+    return _digest(X)

@@ -14,17 +14,21 @@ sharing one mesh share one rest shape and one output:
   MESH OUTPUT state.output == 'MESH': the base mesh holds the last result; the rest shape
               is kept in the point attribute REST_ATTRIBUTE.
 
-The checks before any write are output_checks.py's, the writes output.py's, the solver
-cache solver_cache.py's, and a tool's exact cancel snapshot.py's.
+The checks before any write and every write of what the mesh stores are mesh_io.py's,
+the solver cache engine.py's, and a tool's exact cancel modal.py's (Snapshot). The app
+handlers at the end keep the cache honest across file loads and undo.
 """
 
 import time
 
-from . import (engine, handle_holds, mesh_arrays, output, settle, solver_cache,
-               solve_method)
-from .output_checks import REST_ATTRIBUTE, check_output, owned_key, rest_shape, shape_hash
+import bpy
+from bpy.app.handlers import persistent
 
-Refused = engine.EdgeDeformError
+from . import engine, mesh_io, modal_rules
+from .mesh_io import owned_key
+
+
+Refused = mesh_io.EdgeDeformError
 
 
 def _to_end(steps):
@@ -56,13 +60,13 @@ class ObjectSolver:
         unchanged targets that continues the same accelerated iteration, so a drag that
         stops settles on the cold solve's shape). check_claims: see Binding.solve."""
         return self.binding.solve(targets, iterations, tolerance,
-                                  solve_method.requested(self.ob.edge_deform), warm, initial,
+                                  engine.acceleration(self.ob.edge_deform), warm, initial,
                                   check_claims)
 
     def settings_changed(self):
         """Follow a change of the global λ or the domain (Live Deform's keys)."""
         self.inputs = engine.with_global_changes(self.inputs, self.ob)
-        solver_cache.sync(self.binding, self.inputs, self.ob.name_full)
+        engine.sync(self.binding, self.inputs, self.ob.name_full)
 
     def region_changed(self):
         """Follow a new proportional radius or Connected Only while Proportional stays on
@@ -70,7 +74,7 @@ class ObjectSolver:
         groups, the mesh or the output (a wheel step at 560k vertices: 405 -> 140 ms).
         Raises Refused when the radius frees nothing; the inputs are then unchanged."""
         inputs = engine.with_region_changes(self.inputs, self.ob)
-        solver_cache.sync(self.binding, inputs, self.ob.name_full)
+        engine.sync(self.binding, inputs, self.ob.name_full)
         self.inputs = inputs
 
     def hold_grab(self, handles, static, roi, roi_radius=None, roi_connected=False,
@@ -81,7 +85,7 @@ class ObjectSolver:
         try:
             self.binding.hold_grab(handles, static, roi, roi_radius, roi_connected, roi_from)
         except ValueError as exc:
-            raise solver_cache.plain(exc, roi_radius, roi_connected) from None
+            raise engine.plain(exc, roi_radius, roi_connected) from None
 
     def release_grab(self):
         self.binding.release_grab()
@@ -89,7 +93,7 @@ class ObjectSolver:
     def write(self, X):
         if output_settings(self.ob) != self.output:
             raise Refused("The Output settings changed: solve again")
-        output.write(self.ob, self.binding, X, self.base_hash)
+        mesh_io.write_result(self.ob, self.binding, X, self.base_hash)
 
 
 def output_settings(ob):
@@ -106,14 +110,12 @@ def prepare_steps(ob, inputs=None, require_handles=True, what=None,
     if inputs is None:
         forget_deleted_controllers(ob)
         inputs = engine.gather_inputs(ob, require_handles=require_handles)
-    mesh = ob.data
-    digest = mesh_arrays.topology_digest(mesh)
-    check_output(ob, digest)
+    start = mesh_io.SolveStart(ob)   # the mesh read once, checked before anything changes
     # (The owner: a linked duplicate has settings of its own.)
-    binding = yield from solver_cache.binding_steps(
-        mesh, inputs, rest_shape(mesh), digest, what or "'%s'" % ob.name, fractions,
+    binding = yield from engine.binding_steps(
+        ob.data, inputs, start.rest, start.digest, what or "'%s'" % ob.name, fractions,
         ob.name_full)
-    return ObjectSolver(ob, inputs, binding, shape_hash(mesh_arrays.read_positions32(mesh)))
+    return ObjectSolver(ob, inputs, binding, start.base_hash)
 
 
 def prepare(ob, inputs=None, require_handles=True):
@@ -135,12 +137,12 @@ def deform_steps(ob, chunk_ms=100.0):
     targets, limit, done, ms_per_iteration = solver.targets(), int(s.iterations), 0, None
     while True:
         yield done / max(1, limit), "Deforming '%s': %d/%d iterations…" % (ob.name, done, limit)
-        n = settle.iterations_within(chunk_ms, ms_per_iteration, most=limit - done)
+        n = modal_rules.iterations_within(chunk_ms, ms_per_iteration, most=limit - done)
         t0 = time.perf_counter()
         r = solver.solve(targets, n, s.tolerance, warm=done > 0)
         ms_per_iteration = (time.perf_counter() - t0) * 1e3 / max(1, r.iterations)
         done += r.iterations
-        if settle.is_settled(r) or done >= limit or r.iterations < n:
+        if modal_rules.is_settled(r) or done >= limit or r.iterations < n:
             break
     solver.write(r.positions)
     return solver, r, done
@@ -149,7 +151,7 @@ def deform_steps(ob, chunk_ms=100.0):
 def deform(ob, warm=False, reuse_inputs=False, iterations=None):
     """Bind if needed, solve from the controllers, write: (ObjectSolver, SolveResult)."""
     s = ob.edge_deform
-    solver = prepare(ob, solver_cache.cached_inputs(ob) if reuse_inputs else None)
+    solver = prepare(ob, engine.cached_inputs(ob) if reuse_inputs else None)
     r = solver.solve(solver.targets(), iterations or s.iterations, s.tolerance, warm=warm)
     solver.write(r.positions)
     return solver, r
@@ -171,22 +173,17 @@ def bind_steps(ob):
         ob.name, len(ob.data.vertices))
     inputs = engine.gather_inputs(ob)
     mesh = ob.data
-    digest = mesh_arrays.topology_digest(mesh)
-    binding = yield from solver_cache.new_binding_steps(
-        mesh, inputs, mesh_arrays.read_positions(mesh), digest, "Binding '%s'" % ob.name,
+    digest = mesh_io.topology_digest(mesh)
+    binding = yield from engine.new_binding_steps(
+        mesh, inputs, mesh_io.read_positions(mesh), digest, "Binding '%s'" % ob.name,
         (0.2, 0.4), ob.name_full)
-    st = mesh.edge_deform_state
-    if st.output == 'MESH':   # the base holds the shape the user accepts as the new rest
-        mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
-        st.output, st.written = 'NONE', ""
-    st.topology, st.unheld = digest, 0
-    handle_holds.clear(mesh)   # the handles hold the new rest
+    mesh_io.store_base_as_rest(mesh, digest)
     record_rest_transforms(ob)
     return binding
 
 
 def apply(ob):
-    """Make what the user sees the new base mesh and rest shape (see output.apply_key)."""
+    """Make what the user sees the new base mesh and rest shape (see mesh_io.apply_key)."""
     mesh = ob.data
     st = mesh.edge_deform_state
     if mesh.shape_keys is not None and not mesh.shape_keys.use_relative:
@@ -194,33 +191,26 @@ def apply(ob):
     if st.output == 'NONE' or (st.output == 'SHAPE_KEY' and owned_key(mesh) is None):
         deform(ob)   # nothing shown yet: solve now (may refuse; nothing written then)
     if st.output == 'SHAPE_KEY':
-        output.apply_key(ob, owned_key(mesh))
-    mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
-    handle_holds.clear(mesh)   # the shape shown, held where it is, is the new rest
-    st.output, st.output_key, st.written, st.base, st.unheld = 'NONE', "", "", "", 0
+        mesh_io.apply_key(ob, owned_key(mesh))
+    mesh_io.store_applied(mesh)
     record_rest_transforms(ob)
-    solver_cache.forget(mesh)
+    engine.forget(mesh)
     mesh.update()
 
 
 def is_bound(mesh):
     """Has this mesh a binding (cached solver, or a result it holds)? What the panel's
     Bind/Unbind swap shows; the same test Unbind uses to say whether it did anything."""
-    return solver_cache.is_cached(mesh) or mesh.edge_deform_state.output != 'NONE'
+    return engine.is_cached(mesh) or mesh.edge_deform_state.output != 'NONE'
 
 
 def unbind(ob):
     """Forget the cache and the stored rest: the mesh as it is becomes the rest. The
     output key stays the add-on's (the next solve writes it again)."""
     mesh = ob.data
-    st = mesh.edge_deform_state
     was = is_bound(mesh)
-    solver_cache.forget(mesh)
-    mesh_arrays.remove_attribute(mesh, REST_ATTRIBUTE)
-    handle_holds.clear(mesh)
-    if st.output == 'MESH':
-        st.output, st.written = 'NONE', ""
-    st.topology, st.unheld = "", 0
+    engine.forget(mesh)
+    mesh_io.store_base_as_rest(mesh, "")
     return was
 
 
@@ -239,3 +229,59 @@ def record_rest_transforms(ob):
     for h in ob.edge_deform.handles:
         if h.controller is not None:
             h.rest_matrix = engine.controller_rest(ob, h.controller)
+
+
+# ------------------------------------------------------------------ undo, file loads, saves
+# Keep the session cache honest across file loads and undo, and tell running tools; keep
+# no deleted controller in a saved file.
+#
+# Undo and file loads replace mesh datablocks, so cached bindings may point at freed
+# meshes (whose addresses Blender may reuse). Every cache hit is re-checked anyway (topology
+# and rest shape, engine.binding_steps); this frees memory early, and counts undo/redo steps
+# so that a modal tool notices that the data it holds were replaced and ends cleanly. Before
+# a save, handles let go of controllers deleted from every scene (forget_deleted_controllers
+# above), so the file does not keep them outside every collection.
+
+_generation = [0]
+
+
+def generation():
+    """Changes after every undo, redo and file load."""
+    return _generation[0]
+
+
+@persistent
+def _on_load(*_args):
+    _generation[0] += 1
+    engine.forget_all()
+
+
+@persistent
+def _on_undo(*_args):
+    _generation[0] += 1
+    engine.forget_all_but({mesh.as_pointer() for mesh in bpy.data.meshes})
+
+
+@persistent
+def _on_save(*_args):
+    for ob in bpy.data.objects:
+        if ob.type == 'MESH' and getattr(ob, "edge_deform", None) is not None:
+            forget_deleted_controllers(ob)
+
+
+_HANDLERS = ((bpy.app.handlers.load_post, _on_load),
+             (bpy.app.handlers.save_pre, _on_save),
+             (bpy.app.handlers.undo_post, _on_undo),
+             (bpy.app.handlers.redo_post, _on_undo))
+
+
+def register_handlers():
+    for handlers, fn in _HANDLERS:
+        if fn not in handlers:
+            handlers.append(fn)
+
+
+def unregister_handlers():
+    for handlers, fn in _HANDLERS:
+        if fn in handlers:
+            handlers.remove(fn)

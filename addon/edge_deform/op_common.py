@@ -1,7 +1,8 @@
 """What every operator shares: polls, error texts and reports (every message to the user
 goes through `tell`), and small view helpers (headers, redraws, the pointer over the view,
-Edit-Mode round trips). Long work's progress is progress.py's, timer-driven jobs jobs.py's,
-the modal tools' base modal_tool.py's."""
+Edit-Mode round trips), and long work's progress (the progress indicator, the wait cursor,
+the status bar). Timer-driven jobs are operators_bind.StepsJob, the modal tools' base
+modal.ModalTool."""
 
 import contextlib
 import functools
@@ -123,6 +124,15 @@ def over_the_view(area, event):
     return view
 
 
+def select_only(layer, ob):
+    """Make `ob` the active and only selected object of the view layer `layer`."""
+    for other in layer.objects:
+        if other is not None and other != ob:   # (None right after objects were removed)
+            other.select_set(False)
+    ob.select_set(True)
+    layer.objects.active = ob
+
+
 def redraw_views(context):
     """Redraw every 3D viewport (its sidebar too): the panel shows state that changed
     without a redraw of its own (bound, a tool ended)."""
@@ -153,3 +163,98 @@ def object_mode(ob):
     finally:
         if previous != 'OBJECT' and ob.mode != previous:
             compat.mode_set(ob, previous)
+
+
+# ------------------------------------------------------------------ long work's progress
+# Long work on the main thread (Bind, Solve, Bake, Live's domain switch): Blender's
+# progress indicator, the wait cursor and what happens in the status bar, while a generator
+# of stages runs. The tests listen to `progress_listeners`.
+
+# Callables (kind, text, fraction) told of long work: 'begin', 'update' (a new stage or
+# fraction), 'drawn' (the status bar showed `text`: the user saw it) and 'end'.
+progress_listeners = []
+
+
+def _progress(kind, text, fraction):
+    for listen in progress_listeners:
+        listen(kind, text, fraction)
+
+
+def _show_status(workspace, text, fraction):
+    def draw(layout):
+        layout.label(text=text, icon='TIME')
+        _progress('drawn', text, fraction)
+    compat.status_bar(workspace, draw)
+
+
+@contextlib.contextmanager
+def showing_progress(context, text):
+    """Long work on the main thread (Bind, Solve, Bake): Blender's progress indicator and
+    wait cursor, and what is happening in the status bar, until the work ends.
+    Yields update(fraction, text=None): how far the work got, and what it does now."""
+    wm, window, workspace = context.window_manager, context.window, context.workspace
+    _progress('begin', text, 0.0)
+    wm.progress_begin(0.0, 1.0)
+    if window is not None:
+        window.cursor_modal_set('WAIT')
+    _show_status(workspace, text, 0.0)
+
+    def update(fraction, stage=None):
+        wm.progress_update(fraction)
+        if stage is not None:
+            _show_status(workspace, stage, fraction)
+        _progress('update', stage or text, fraction)
+
+    try:
+        yield update
+    finally:
+        wm.progress_end()
+        if window is not None:
+            window.cursor_modal_restore()
+        compat.status_bar(workspace, None)
+        _progress('end', text, 1.0)
+
+
+class Stages:
+    """Long work written as a generator of (fraction, text) before each stage, run one
+    stage per advance() call, with busy()'s progress, wait cursor and status text from
+    the first call until the work ends. Between calls Blender redraws, so the user sees
+    what the next stage does before it runs. stop() (idempotent) closes the generator
+    early: work written that way touches no bpy data before its last stage."""
+
+    def __init__(self, context, text, steps):
+        self.steps, self.stage = steps, text
+        self.busy = showing_progress(context, text)
+        self.update = self.busy.__enter__()
+
+    def advance(self):
+        """Run the next stage: (True, the work's result) when it ended (then stopped),
+        else (False, None) with the next stage's text shown. An exception stops it."""
+        try:
+            fraction, self.stage = next(self.steps)
+        except StopIteration as done:
+            self.stop()
+            return True, done.value
+        except BaseException:
+            self.stop()
+            raise
+        self.update(fraction, self.stage)
+        return False, None
+
+    def run_to_end(self):
+        while True:
+            done, result = self.advance()
+            if done:
+                return result
+
+    def stop(self):
+        steps, self.steps = self.steps, None
+        if steps is not None:
+            steps.close()
+            self.busy.__exit__(None, None, None)
+
+
+def run_steps(context, text, steps):
+    """Run long work written as a generator of (fraction, what it does next) in one go
+    (scripts, EXEC_DEFAULT), with the progress shown; returns the generator's result."""
+    return Stages(context, text, steps).run_to_end()

@@ -13,7 +13,18 @@ import blf
 import bpy
 from bpy_extras.view3d_utils import location_3d_to_region_2d
 
+
 NOTE_SECONDS = 5.0   # how long a note (a refused key) stays on screen
+
+
+def _redrawn(area):
+    """Tag `area` for a redraw; the area, or None when it went away (a file load)."""
+    try:
+        if area is not None:
+            area.tag_redraw()
+        return area
+    except ReferenceError:
+        return None
 
 
 class ViewportText:
@@ -53,11 +64,7 @@ class ViewportText:
         return None
 
     def redraw(self):
-        try:
-            if self.area is not None:
-                self.area.tag_redraw()
-        except ReferenceError:
-            self.area = None
+        self.area = _redrawn(self.area)
 
     def remove(self):
         if bpy.app.timers.is_registered(self._note_ends):
@@ -127,11 +134,7 @@ class RadiusCircles:
         if self.handle is not None:
             bpy.types.SpaceView3D.draw_handler_remove(self.handle, 'WINDOW')
             self.handle = None
-        try:
-            if self.area is not None:
-                self.area.tag_redraw()
-        except ReferenceError:
-            self.area = None
+        self.area = _redrawn(self.area)
 
     def draw(self):
         # (Imported here: the add-on also registers in background Blender, where drawing

@@ -1,7 +1,7 @@
 """The "Edge Deform" tab in the 3D Viewport sidebar: a main panel with the actions and
 collapsible sub-panels (Handles, Groups, Stiffness, Solver, Animation), like Blender's own
-tools. Labels sit above fields whose values are long (vertex group names), so everything
-stays readable at the default sidebar width.
+tools, and the menu entries (at the end). Labels sit above fields whose values are long
+(vertex group names), so everything stays readable at the default sidebar width.
 
 The panel also shows while a controller of a deformed mesh is active (the artist picked it
 in the viewport or the Outliner to move it): it then works on that mesh, and its buttons
@@ -10,7 +10,7 @@ get the mesh as their `active_object` (layout.context_pointer_set).
 
 import bpy
 
-from . import compat, frame_handler, lifecycle, modal_tool, op_common
+from . import compat, lifecycle, modal, op_common, operators_bind
 
 
 # (Kept here too: the panel and its tests speak of it.)
@@ -25,11 +25,26 @@ def target(layout, context):
     return ob
 
 
+def drawn_for(panel, context):
+    """(the panel's layout, the mesh it works on, the mesh's settings); see target()."""
+    ob = target(panel.layout, context)
+    return panel.layout, ob, ob.edge_deform
+
+
 def narrow(context):
     """Is the sidebar narrower than its default (about 230 px at 100 % scale)? Rows of
     three buttons stack then."""
     region = context.region
     return region is not None and region.width < 200 * context.preferences.system.ui_scale
+
+
+def group_field(layout, label, operator, icon, ob, field):
+    """A vertex group setting: its label with the operator that fills it beside it (the
+    group's name gets the whole row below)."""
+    row = layout.row()
+    row.label(text=label)
+    row.operator(operator, text="", icon=icon)
+    layout.prop_search(ob.edge_deform, field, ob, "vertex_groups", text="")
 
 
 class _Panel:
@@ -40,7 +55,6 @@ class _Panel:
     @classmethod
     def poll(cls, context):
         return deformed_object(context) is not None
-
 
 
 class EDGE_DEFORM_UL_handles(bpy.types.UIList):
@@ -67,13 +81,11 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
 
     def draw_header(self, context):
         ob = deformed_object(context)
-        if ob is not None and frame_handler.frame_problem(ob):
+        if ob is not None and operators_bind.frame_problem(ob):
             self.layout.label(text="", icon='ERROR')
 
     def draw(self, context):
-        layout = self.layout
-        ob = target(self.layout, context)
-        s = ob.edge_deform
+        layout, ob, s = drawn_for(self, context)
         bound = lifecycle.is_bound(ob.data)
         active = context.active_object
         if active != ob:   # (short labels: each reads in full in a 170 px sidebar)
@@ -82,7 +94,7 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
             row.label(text=ob.name, icon='OUTLINER_OB_MESH')
             row.operator("edge_deform.select_mesh", text="", icon='RESTRICT_SELECT_OFF')
 
-        running = modal_tool.running_tool(ob)
+        running = modal.running_tool(ob)
         if running:
             col = layout.column(align=True)
             col.label(text="%s on" % running.bl_label, icon='REC')
@@ -114,7 +126,7 @@ class EDGE_DEFORM_PT_main(_Panel, bpy.types.Panel):
         row = col.row(align=True)
         row.operator("edge_deform.solve", icon='FILE_REFRESH')
         row.operator("edge_deform.apply", icon='CHECKMARK')
-        problem = frame_handler.frame_problem(ob) if s.animate else None
+        problem = operators_bind.frame_problem(ob) if s.animate else None
         if problem:
             layout.label(text=problem, icon='ERROR')
 
@@ -127,9 +139,7 @@ class EDGE_DEFORM_PT_handles(_SubPanel, bpy.types.Panel):
     bl_label = "Handles"
 
     def draw(self, context):
-        layout = self.layout
-        ob = target(self.layout, context)
-        s = ob.edge_deform
+        layout, ob, s = drawn_for(self, context)
         # The list's buttons beside it, or under it in a narrow sidebar (the list is the
         # only place the handles' names are listed: it gets the whole width there).
         if narrow(context):
@@ -158,9 +168,7 @@ class EDGE_DEFORM_PT_groups(_SubPanel, bpy.types.Panel):
     bl_label = "Static and Region"
 
     def draw(self, context):
-        layout = self.layout
-        ob = target(self.layout, context)
-        s = ob.edge_deform
+        layout, ob, s = drawn_for(self, context)
         for field, op, label in (("static_group", "edge_deform.set_static", "Static"),
                                  ("roi_group", "edge_deform.set_roi", "Region")):
             # The button beside the label: the group's name gets the whole row. (An
@@ -168,10 +176,7 @@ class EDGE_DEFORM_PT_groups(_SubPanel, bpy.types.Panel):
             col = layout.column()
             # Proportional picks the region while on: the Region group is not read.
             col.active = field != "roi_group" or not s.proportional
-            row = col.row()
-            row.label(text=label)
-            row.operator(op, text="", icon='ADD')
-            col.prop_search(s, field, ob, "vertex_groups", text="")
+            group_field(col, label, op, 'ADD', ob, field)
         layout.prop(s, "proportional")
         col = layout.column()
         col.active = s.proportional
@@ -184,16 +189,13 @@ class EDGE_DEFORM_PT_stiffness(_SubPanel, bpy.types.Panel):
     bl_label = "Stiffness"
 
     def draw(self, context):
-        layout = self.layout
-        ob = target(self.layout, context)
-        s = ob.edge_deform
+        layout, ob, s = drawn_for(self, context)
         row = layout.row()
         row.active = not s.stiffness_group   # a group overrides the global value
         row.prop(s, "stiffness", slider=True, text="λ")
-        row = layout.row()   # (the sub-panel says it is stiffness)
-        row.label(text="Painted Group")
-        row.operator("edge_deform.paint_stiffness", text="", icon='BRUSH_DATA')
-        layout.prop_search(s, "stiffness_group", ob, "vertex_groups", text="")
+        # (The sub-panel says it is stiffness.)
+        group_field(layout, "Painted Group", "edge_deform.paint_stiffness", 'BRUSH_DATA', ob,
+                    "stiffness_group")
         if s.stiffness_group:
             layout.label(text="Group sets λ", icon='INFO')
         # Side by side, or stacked in a narrow sidebar (else cut to "Med…" and "Rig…").
@@ -214,9 +216,7 @@ class EDGE_DEFORM_PT_solver(_SubPanel, bpy.types.Panel):
     bl_options = {'DEFAULT_CLOSED'}
 
     def draw(self, context):
-        layout = self.layout
-        ob = target(self.layout, context)
-        s = ob.edge_deform
+        layout, ob, s = drawn_for(self, context)
         # Side by side, or stacked in a narrow sidebar (else cut to "Vertex Gr…").
         (layout.column() if narrow(context) else layout.row()).prop(s, "domain", expand=True)
         if s.domain == 'PRIMAL' and not s.stiffness_group and s.stiffness < 0.1:
@@ -241,16 +241,72 @@ class EDGE_DEFORM_PT_animation(_SubPanel, bpy.types.Panel):
     bl_options = {'DEFAULT_CLOSED'}
 
     def draw(self, context):
-        layout = self.layout
-        ob = target(self.layout, context)
-        s = ob.edge_deform
+        layout, ob, s = drawn_for(self, context)
         layout.prop(s, "animate", text="Every Frame")   # (the full name: the tooltip)
-        problem = frame_handler.frame_problem(ob) if s.animate else None
+        problem = operators_bind.frame_problem(ob) if s.animate else None
         if problem:
             layout.label(text=problem, icon='ERROR')
         layout.operator("edge_deform.bake", icon='REC')
 
 
+# ------------------------------------------------------------------ menu entries
+# Menu entries where artists look for a deform tool (and where F3 search finds them):
+# Object > Edge Deform, Edit Mode's Vertex menu and Weight Paint's Weights menu.
+
+class EDGE_DEFORM_MT_object(bpy.types.Menu):
+    bl_label = "Edge Deform"
+    bl_idname = "EDGE_DEFORM_MT_object"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.operator("edge_deform.bind", icon='LINKED')
+        layout.operator("edge_deform.live", icon='PLAY')
+        layout.operator("edge_deform.solve", icon='FILE_REFRESH')
+        layout.operator("edge_deform.apply", icon='CHECKMARK')
+        layout.operator("edge_deform.bake", icon='REC')
+        layout.separator()
+        layout.operator("edge_deform.unbind", icon='UNLINKED')
+
+
+def _object_menu(self, context):
+    self.layout.separator()
+    self.layout.menu(EDGE_DEFORM_MT_object.bl_idname)
+
+
+def _edit_vertex_menu(self, context):
+    layout = self.layout
+    layout.separator()
+    layout.operator("edge_deform.grab", text="Grab Deform", icon='VIEW_PAN')
+    layout.operator("edge_deform.add_handle", text="Add Edge Deform Handle")
+    layout.operator("edge_deform.set_static", text="Set Edge Deform Static")
+    layout.operator("edge_deform.set_roi", text="Set Edge Deform Region")
+    layout.operator_menu_enum("edge_deform.assign_stiffness", "preset",
+                              text="Assign Edge Deform Stiffness")
+
+
+def _weight_menu(self, context):
+    layout = self.layout
+    layout.separator()
+    layout.operator_menu_enum("edge_deform.assign_stiffness", "preset",
+                              text="Assign Edge Deform Stiffness")
+
+
+# (menu class name, draw function): appended on register, removed on unregister.
+ENTRIES = (("VIEW3D_MT_object", _object_menu),
+           ("VIEW3D_MT_edit_mesh_vertices", _edit_vertex_menu),
+           ("VIEW3D_MT_paint_weight", _weight_menu))
+
+
+def register_menus():
+    for menu, draw in ENTRIES:
+        getattr(bpy.types, menu).append(draw)
+
+
+def unregister_menus():
+    for menu, draw in ENTRIES:
+        getattr(bpy.types, menu).remove(draw)
+
+
 CLASSES = (EDGE_DEFORM_UL_handles, EDGE_DEFORM_PT_main, EDGE_DEFORM_PT_handles,
            EDGE_DEFORM_PT_groups, EDGE_DEFORM_PT_stiffness, EDGE_DEFORM_PT_solver,
-           EDGE_DEFORM_PT_animation)
+           EDGE_DEFORM_PT_animation, EDGE_DEFORM_MT_object,)

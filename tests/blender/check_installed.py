@@ -13,10 +13,10 @@ scripts = os.path.realpath(os.environ["BLENDER_USER_SCRIPTS"])
 loaded_default, loaded_state = addon_utils.check("edge_deform")
 assert loaded_default and loaded_state, "edge_deform is not enabled in the saved preferences"
 import edge_deform  # noqa: E402
-from edge_deform import native  # noqa: E402
+from edge_deform import compat  # noqa: E402
 
 assert os.path.realpath(edge_deform.__file__).startswith(scripts), edge_deform.__file__
-module = native.get()
+module = compat.native_package()
 assert os.path.realpath(module.__file__).startswith(
     os.path.join(scripts, "addons", "edge_deform", "edgedeform")), module.__file__
 assert "edgedeform" not in sys.modules or sys.modules["edgedeform"] is module

@@ -21,10 +21,10 @@ assert "edge_deform/docs/addon.md" in names and "edge_deform/docs/img/addon_pane
 bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
 addon_utils.enable("edge_deform", default_set=True, handle_error=None)
 import edge_deform  # noqa: E402
-from edge_deform import native  # noqa: E402
+from edge_deform import compat  # noqa: E402
 
 scripts = os.path.realpath(os.environ["BLENDER_USER_SCRIPTS"])
-assert os.path.realpath(native.get().__file__).startswith(scripts), native.get().__file__
+assert os.path.realpath(compat.native_package().__file__).startswith(scripts), compat.native_package().__file__
 assert hasattr(bpy.types.Object, "edge_deform")
 
 # Preferences > Add-ons shows "Documentation" for the info Blender parsed from the file: it

@@ -28,7 +28,7 @@ from mathutils import Matrix, Vector  # noqa: E402
 import edgedeform as ed  # noqa: E402
 import edgedeform.mesh_files  # noqa: E402,F401  (ed.mesh_files)
 import edge_deform  # noqa: E402
-from edge_deform import session  # noqa: E402
+from edge_deform import engine  # noqa: E402
 
 
 def register():
@@ -149,7 +149,7 @@ def reset_scene():
         bpy.data.objects.remove(ob)
     for me in list(bpy.data.meshes):
         bpy.data.meshes.remove(me)
-    session.clear()
+    engine.forget_all()
     bpy.context.scene.frame_set(1)
 
 

@@ -41,13 +41,13 @@ def test_frame_handler():
     assert np.abs(out - rest).max() > 0.1
     # The playback path reuses the groups of the last sync (no geometry-nodes read) and
     # solves the same problem: handles on target, static at rest.
-    from edge_deform import lifecycle, mesh_arrays
-    reader = mesh_arrays.read_group_weights
-    mesh_arrays.read_group_weights = None          # any group read would now fail
+    from edge_deform import lifecycle, mesh_io
+    reader = mesh_io.read_group_weights
+    mesh_io.read_group_weights = None          # any group read would now fail
     try:
         reused = lifecycle.deform(ob, warm=True, reuse_inputs=True)[1].positions
     finally:
-        mesh_arrays.read_group_weights = reader
+        mesh_io.read_group_weights = reader
     assert np.abs(reused[handle] - targets(ctrl, rest_matrix, rest, handle)).max() < 1e-5
     assert np.array_equal(reused[static], rest[static].astype(float))
     out = key_positions(ob).copy()
@@ -85,7 +85,7 @@ def test_bake():
 def test_snapshot_restores_bit_exact():
     """The modal tools' cancel: after writes in either output mode, with or without a
     user's shape key, everything is back bit-exact (keys, value, stored state)."""
-    from edge_deform import lifecycle, output_checks, snapshot
+    from edge_deform import lifecycle, mesh_io, modal
     ob, ctrl, rest_matrix, handle, static, rest = setup()
     noise = np.random.default_rng(1).normal(size=rest.shape)
     for output in ('SHAPE_KEY', 'MESH'):
@@ -99,7 +99,7 @@ def test_snapshot_restores_bit_exact():
             ob.edge_deform.output = output
             before_base = positions(ob.data).copy()
             before_key = key_positions(ob, "Mine").copy() if had_key else None
-            snap = snapshot.Snapshot(ob)
+            snap = modal.Snapshot(ob)
             for _ in range(2):
                 lifecycle.prepare(ob).write(rest + noise)
             shown = positions(ob.data) if output == 'MESH' else key_positions(ob)
@@ -108,7 +108,7 @@ def test_snapshot_restores_bit_exact():
             snap.discard()
             assert np.array_equal(positions(ob.data), before_base), (output, had_key)
             assert ob.data.edge_deform_state.output == 'NONE'
-            assert ob.data.attributes.get(output_checks.REST_ATTRIBUTE) is None
+            assert ob.data.attributes.get(mesh_io.REST_ATTRIBUTE) is None
             if had_key:
                 assert ob.data.shape_keys.key_blocks.keys() == ["Basis", "Mine"]
                 assert np.array_equal(key_positions(ob, "Mine"), before_key)

@@ -79,8 +79,8 @@ def test_output_mesh_keeps_rest():
     assert np.abs(out - r.positions).max() < 1e-5
     # A second solve must start from the stored rest, not from the deformed base mesh:
     # controller back at rest -> the mesh returns to rest.
-    from edge_deform import session
-    session.clear()                       # as after a reload: only the .blend is left
+    from edge_deform import engine
+    engine.forget_all()                       # as after a reload: only the .blend is left
     ctrl.matrix_world = rest_matrix
     bpy.context.view_layer.update()
     assert bpy.ops.edge_deform.solve() == {'FINISHED'}
@@ -296,31 +296,31 @@ def test_apply_and_unbind():
     # New rest: solving again without moving keeps the shape.
     assert bpy.ops.edge_deform.solve() == {'FINISHED'}
     assert np.abs(key_positions(ob) - shown).max() < 1e-5
-    from edge_deform import session
-    assert session.get(ob.data.as_pointer()) is not None
+    from edge_deform import engine
+    assert engine.cached_binding(ob.data.as_pointer()) is not None
     assert bpy.ops.edge_deform.unbind() == {'FINISHED'}
-    assert session.get(ob.data.as_pointer()) is None
+    assert engine.cached_binding(ob.data.as_pointer()) is None
 
 
 def test_solve_names_a_graph_rebuild():
     """After a domain change from the panel (only a setting), the next Solve from the UI
     builds the new graph in stages it names; closed between them (Esc), the cached graph
     and the mesh stay as they were."""
-    from edge_deform import lifecycle, session
+    from edge_deform import engine, lifecycle
     ob, V, F, handle, static, ctrl = plane_setup("plane_domain")
     assert bpy.ops.edge_deform.bind() == {'FINISHED'}
     move(ctrl)
     ob.edge_deform.domain = 'PRIMAL'
     pointer = ob.data.as_pointer()
-    assert session.get(pointer).domain == 'EDGE', "a domain change alone rebuilds nothing"
+    assert engine.cached_binding(pointer).domain == 'EDGE', "a domain change alone rebuilds nothing"
     steps = lifecycle.deform_steps(ob)
     texts = [next(steps)[1], next(steps)[1]]   # the graph is built after the second
     assert "building the vertex graph of %d triangles" % len(loop_triangles(ob.data)) \
         in texts[0] and "factoring" in texts[1], texts
     steps.close()
-    assert session.get(pointer).domain == 'EDGE' and ob.data.shape_keys is None
+    assert engine.cached_binding(pointer).domain == 'EDGE' and ob.data.shape_keys is None
     bound, r, _ = lifecycle._to_end(lifecycle.deform_steps(ob))
-    assert session.get(pointer).domain == 'PRIMAL' and bound.binding.domain == 'PRIMAL'
+    assert engine.cached_binding(pointer).domain == 'PRIMAL' and bound.binding.domain == 'PRIMAL'
     assert ob.data.shape_keys is not None and r.iterations > 0
 
 
@@ -339,32 +339,32 @@ class _Results:
 def test_modal_tools_stop_settling_at_the_limit():
     """settle.describe, on real solve results: 'settled' only when converged; past
     SETTLE_LIMIT iterations without it, the tools stop and say how far the shape may be."""
-    from edge_deform import settle
+    from edge_deform import modal_rules
     ob, V, F, handle, static, ctrl = plane_setup()
     rest = positions(ob.data).astype(float)
     T = rest[handle] + np.array([0.0, 0.0, 0.3])
     d = ed.Deformer(rest, F, domain="edge")
     d.set_constraints(handles=handle, static=static)
     d.set_stiffness(0.5)
-    done = settle.Settle(limit=5000)
+    done = modal_rules.Settle(limit=5000)
     while not done.at_rest:
         done.tick(_Results(d, T, 1e-3), moving=False)
     assert done.settled and done.result.converged
     # The still ticks' claim was checked by the core (or is a fixed point to round-off).
     assert done.result.claim_checks >= 1 or done.result.residuals[-1] <= 1e-9
-    text = settle.describe(done, "move a controller")
+    text = modal_rules.describe(done, "move a controller")
     assert text.startswith("settled, %d iterations" % done.iterations), text
     d.set_constraints(handles=handle, static=static)   # (a new solve)
-    going = settle.Settle(limit=10 ** 6)   # (one tick never reaches this limit)
+    going = modal_rules.Settle(limit=10 ** 6)   # (one tick never reaches this limit)
     going.tick(_Results(d, T, 0.0), moving=False)
     assert not going.result.converged and not going.at_rest
-    text = settle.describe(going, "move a controller")
+    text = modal_rules.describe(going, "move a controller")
     assert text.startswith("settling…"), text
-    going = settle.Settle(limit=60)
+    going = modal_rules.Settle(limit=60)
     while not going.at_rest:
         going.tick(_Results(d, T, 0.0), moving=False)
     assert going.gave_up and going.iterations == 60, going.iterations
-    text = settle.describe(going, "move a controller")
+    text = modal_rules.describe(going, "move a controller")
     assert "settled" not in text, text
     assert text.startswith("stopped after 60 iterations, not converged"), text
     assert text.endswith("; move a controller to go on"), text
@@ -409,12 +409,12 @@ def test_acceleration_choices_follow_the_package():
 def test_automatic_names_no_method():
     """Acceleration defaults to Automatic: the add-on's solves name no method, so the
     package's default rule chooses (docs/decisions/0043); an explicit choice is named."""
-    from edge_deform import session, solve_method
+    from edge_deform import engine
     ob, V, F, handle, static, ctrl = plane_setup("plane_auto")
     s = ob.edge_deform
-    assert s.acceleration == solve_method.AUTOMATIC, s.acceleration
+    assert s.acceleration == engine.AUTOMATIC, s.acceleration
     assert bpy.ops.edge_deform.bind() == {'FINISHED'}
-    binding = session.get(ob.data.as_pointer())
+    binding = engine.cached_binding(ob.data.as_pointer())
     calls = []
 
     class Spy:

@@ -34,10 +34,10 @@ class MenuRecorder:
 
 def draw_appended(menu_name):
     """What the add-on's draw functions append to one of Blender's menus."""
-    from edge_deform import menus
+    from edge_deform import ui
     rec = MenuRecorder()
     holder = type("MenuStub", (), {"layout": rec})()
-    for name, draw in menus.ENTRIES:
+    for name, draw in ui.ENTRIES:
         if name == menu_name:
             assert draw in getattr(bpy.types, name)._dyn_ui_initialize(), \
                 "%s is not appended to %s" % (draw.__name__, name)
@@ -224,8 +224,8 @@ class _RecordingLayout:
 
 
 def test_info_links_the_manual():
-    from edge_deform import preferences
-    path = doc_file(preferences.manual_url())
+    from edge_deform import properties
+    path = doc_file(properties.manual_url())
     # The copy installed with the add-on (the 4.2+ suites install the extension), else,
     # from a checkout, its docs/addon.md.
     bundled = os.path.join(os.path.dirname(edge_deform.__file__), "docs", "addon.md")
@@ -237,7 +237,7 @@ def test_info_links_the_manual():
         assert f.readline().startswith("# Edge Deform"), path
     # Preferences > Add-ons > Edge Deform: a Manual button opening it (the only link a
     # 4.2+ extension has: Blender drops its bl_info) ...
-    cls = preferences.EDGE_DEFORM_AP_preferences
+    cls = properties.EDGE_DEFORM_AP_preferences
     assert cls.is_registered and cls.bl_idname == edge_deform.__name__
     layout = _RecordingLayout()
     cls.draw(type("Prefs", (), {"layout": layout})(), bpy.context)

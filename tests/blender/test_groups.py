@@ -11,7 +11,7 @@ from helpers import (Told, bpy, expect_error, load, make_object,  # noqa
 
 
 def members(ob, name):
-    """Test-side reading of a vertex group: {vertex: weight} (independent of mesh_arrays)."""
+    """Test-side reading of a vertex group: {vertex: weight} (independent of mesh_io)."""
     vg = ob.vertex_groups[name]
     out = {}
     for v in ob.data.vertices:
@@ -111,8 +111,8 @@ def test_assign_stiffness_presets():
     assert all(abs(w[i] - 1.0) < 1e-6 for i in c) and abs(w[40] - 0.8) < 1e-6
     assert abs(w[100] - 0.3) < 1e-6
     # The add-on reads the same weights in bulk.
-    from edge_deform import mesh_arrays
-    bulk = mesh_arrays.read_group_weights(ob, [s.stiffness_group])[s.stiffness_group]
+    from edge_deform import mesh_io
+    bulk = mesh_io.read_group_weights(ob, [s.stiffness_group])[s.stiffness_group]
     assert np.allclose(bulk, [w[i] for i in range(len(V))])
 
 

@@ -81,8 +81,8 @@ def test_manual_states_the_code_defaults():
 
 
 def test_core_defaults_are_the_packages():
-    from edge_deform import native, properties
-    ed = native.get()
+    from edge_deform import compat, properties
+    ed = compat.native_package()
     props = bpy.types.Object.bl_rna.properties["edge_deform"].fixed_type.properties
     assert properties.CORE_TOLERANCE == ed.SOLVE_DEFAULTS["tolerance"], ed.SOLVE_DEFAULTS
     # (Blender stores a float property's default as a float32.)

@@ -202,7 +202,7 @@ def cut_labels(sidebar_width, values):
 def scene_states():
     """The panel in the states the walk-through saw: no handles; a bound plane with a
     painted group made by the add-on; a running Live; a controller active."""
-    from edge_deform import modal_tool, operators_groups
+    from edge_deform import modal, operators_groups
     ob, ctrl, handle, static = plane_with_end_groups()
     s = ob.edge_deform
     saved = list(s.handles)
@@ -221,11 +221,11 @@ def scene_states():
     class Running:
         bl_label = "Live Deform"
         object_name = ob.name_full
-    modal_tool._running[0] = Running()
+    modal._running[0] = Running()
     try:
         yield "Live running"
     finally:
-        modal_tool._running.pop(0)
+        modal._running.pop(0)
     bpy.context.view_layer.objects.active = ctrl
     yield "a controller active"
     bpy.context.view_layer.objects.active = ob

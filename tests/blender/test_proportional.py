@@ -10,7 +10,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bmesh  # noqa: E402
 from helpers import (activate, add_group, add_handle, bpy, ed, key_positions,  # noqa: E402
-                     load, make_object, np, positions, refused, run, select_only, session)
+                     load, make_object, np, positions, refused, run, select_only, engine)
 from mathutils import Matrix, Vector  # noqa: E402
 
 
@@ -106,10 +106,10 @@ def test_radius_reaches_the_core():
     assert np.abs(out - expect).max() < 1e-5, np.abs(out - expect).max()
 
     # Only the radius changes: the same graph (no rebuild), a new region, a new result.
-    deformer = session.get(ob.data.as_pointer()).deformer
+    deformer = engine.cached_binding(ob.data.as_pointer()).deformer
     ob.edge_deform.proportional_radius = 0.6 * width
     assert bpy.ops.edge_deform.solve() == {'FINISHED'}
-    assert session.get(ob.data.as_pointer()).deformer is deformer, "graph kept"
+    assert engine.cached_binding(ob.data.as_pointer()).deformer is deformer, "graph kept"
     out2 = key_positions(ob).astype(np.float64)
     wider = within(V, handle, 0.6 * width)
     assert wider.sum() > inside.sum()
@@ -238,7 +238,7 @@ def test_static_covering_the_region_is_refused():
 def test_frame_change_and_playback_read_the_radius():
     """Deform on Frame Change solves within the radius; the inputs playback reuses are
     dropped when the radius changes (then read again)."""
-    from edge_deform import solver_cache
+    from edge_deform import engine
     ob, V, F, handle, ctrl, width = plane()
     s = ob.edge_deform
     s.animate = True
@@ -250,12 +250,12 @@ def test_frame_change_and_playback_read_the_radius():
     outside = ~within(V, handle, s.proportional_radius)
     assert np.array_equal(out[outside], positions(ob.data)[outside]), "outside at rest"
     assert np.abs(out[handle, 2] - V[handle, 2] - 0.2 * width).max() < 1e-4
-    assert solver_cache.cached_inputs(ob) is not None, "playback may reuse these"
+    assert engine.cached_inputs(ob) is not None, "playback may reuse these"
     s.proportional_radius = 0.5 * width
-    assert solver_cache.cached_inputs(ob) is None, "a new radius: read again"
+    assert engine.cached_inputs(ob) is None, "a new radius: read again"
     s.proportional_radius = 0.3 * width
     s.proportional = False
-    assert solver_cache.cached_inputs(ob) is None, "off: read again (the Region group)"
+    assert engine.cached_inputs(ob) is None, "off: read again (the Region group)"
     s.animate = False
 
 

@@ -464,17 +464,17 @@ def test_bake_never_replaces_user_keys():
 
 
 def test_frame_handler_problem_is_shown():
-    from edge_deform import frame_handler
+    from edge_deform import operators_bind
     ob, ctrl, handle, static, rest = setup()
     ob.edge_deform.animate = True
     bpy.context.scene.frame_set(2)
-    assert frame_handler.frame_problem(ob) is None
+    assert operators_bind.frame_problem(ob) is None
     ob.vertex_groups.remove(ob.vertex_groups["S"])
     bpy.context.scene.frame_set(3)              # the handler must not raise
-    assert "'S' does not exist" in frame_handler.frame_problem(ob)
+    assert "'S' does not exist" in operators_bind.frame_problem(ob)
     ob.vertex_groups.new(name="S").add(static.tolist(), 1.0, 'REPLACE')
     bpy.context.scene.frame_set(4)
-    assert frame_handler.frame_problem(ob) is None
+    assert operators_bind.frame_problem(ob) is None
 
 
 if __name__ == "__main__":

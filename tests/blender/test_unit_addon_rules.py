@@ -1,9 +1,9 @@
 """Unit tests (pytest, no Blender) of rules the add-on's source keeps:
   - every mode switch goes through compat.mode_set (Blender 5.0.1's crash guard);
-  - foreach_get/foreach_set appear only in mesh_arrays.py (one place moves bpy arrays);
+  - foreach_get/foreach_set appear only in mesh_io.py (one place moves bpy arrays);
   - messages reach the user only through op_common.tell (where the tests listen);
-  - only solver_cache.py uses the solver cache (session.py): one owner decides when a
-    Binding is trusted and forgets it;
+  - only mesh_io.py writes what the mesh stores (`edge_deform_state`, the rest and hold
+    attributes): one owner per stored fact;
   - panels and lists are drawn only in ui.py, which defines no operator;
   - every module says in its docstring what it is for;
   - module-level state (a mutable global) lives only in the module that owns it, listed
@@ -51,11 +51,11 @@ def test_every_mode_set_goes_through_compat():
     assert sum(len(v) for k, v in found.items() if k != "compat.py") >= 5, found
 
 
-def test_foreach_only_in_mesh_arrays():
+def test_foreach_only_in_mesh_io():
     outside = {name: attribute_calls(tree, "foreach_get") + attribute_calls(tree, "foreach_set")
-               for name, tree in sources() if name != "mesh_arrays.py"}
+               for name, tree in sources() if name != "mesh_io.py"}
     outside = {k: v for k, v in outside.items() if v}
-    assert not outside, "foreach_get/foreach_set outside mesh_arrays.py: %s" % outside
+    assert not outside, "foreach_get/foreach_set outside mesh_io.py: %s" % outside
 
 
 def test_messages_go_through_tell():
@@ -77,9 +77,26 @@ def imported_addon_modules(tree):
     return names
 
 
-def test_only_solver_cache_uses_the_session_cache():
-    users = sorted(name for name, tree in sources() if "session" in imported_addon_modules(tree))
-    assert users == ["solver_cache.py"], users
+def test_only_mesh_io_writes_the_stored_state():
+    # The state's fields (`st.x = ...`, `setattr(st, ...)` with st the mesh's
+    # edge_deform_state) and the stored attributes are written in mesh_io.py alone.
+    writers = set()
+    for name, tree in sources():
+        for node in ast.walk(tree):
+            targets = node.targets if isinstance(node, ast.Assign) else []
+            flat = [e for t in targets for e in (t.elts if isinstance(t, ast.Tuple) else [t])]
+            if any(isinstance(t, ast.Attribute) and (
+                    ast.unparse(t.value) == "st" or ast.unparse(t.value).endswith(
+                        ".edge_deform_state")) for t in flat):
+                writers.add(name)
+            if isinstance(node, ast.Call) and ast.unparse(node.func) == "setattr" \
+                    and ast.unparse(node.args[0]) == "st":
+                writers.add(name)
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) \
+                    and node.func.attr in ("write_vector_attribute", "remove_attribute") \
+                    and name != "mesh_io.py":
+                writers.add(name)
+    assert writers == {"mesh_io.py"}, writers
 
 
 def base_names(tree):
@@ -106,13 +123,12 @@ def test_every_module_says_what_it_is_for():
 # The add-on's module-level state, each piece in the one module that changes it.
 OWNED_STATE = {
     "__init__.py": {"bl_info"},              # Blender's metadata (register sets the manual)
-    "cache_handlers.py": {"_generation"},    # undo/redo/load count the tools compare
-    "frame_handler.py": {"_problems", "_holds"},   # its last problem per object; Bake's hold
-    "modal_tool.py": {"_running"},           # the modal tool running (one at a time)
-    "native.py": {"_module"},                # the loaded package
-    "op_common.py": {"listeners"},           # who hears every message (the tests)
-    "progress.py": {"progress_listeners"},   # who hears long work's progress (the tests)
-    "session.py": {"_bindings"},             # the solver cache (solver_cache.py's)
+    "compat.py": {"_module"},                # the loaded package
+    "engine.py": {"_bindings"},              # the solver cache: one Binding per mesh
+    "lifecycle.py": {"_generation"},         # undo/redo/load count the tools compare
+    "modal.py": {"_running"},                # the modal tool running (one at a time)
+    "op_common.py": {"listeners", "progress_listeners"},   # who hears messages, progress
+    "operators_bind.py": {"_problems", "_holds"},   # the frame handler's problems; Bake's hold
 }
 
 
@@ -138,7 +154,7 @@ def test_module_state_has_one_owner():
 
 def test_path_loaded_modules_are_bpy_free():
     for name, tree in sources():
-        if name not in ("settle.py", "modal_states.py"):
+        if name != "modal_rules.py":
             continue
         imported = [alias.name for node in ast.walk(tree)
                     if isinstance(node, (ast.Import, ast.ImportFrom))

@@ -1,6 +1,6 @@
 """Unit tests (pytest, no Blender) of the modal tools' settle policy (addon/edge_deform/
-settle.py) and state machines (modal_states.py). Both files are bpy-free and loaded by
-their path, as bench/bench_live_settle.py loads the policy.
+modal_rules.py) and state machines (the same file). It is bpy-free and loaded by its
+path, as bench/bench_live_settle.py loads the policy.
 
     /usr/bin/python3 -m pytest tests/blender/test_unit_settle.py
 """
@@ -23,8 +23,7 @@ def load(name):
     return module
 
 
-settle = load("settle")
-states = load("modal_states")
+settle = states = load("modal_rules")
 
 
 class Clock:

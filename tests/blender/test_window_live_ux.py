@@ -101,7 +101,7 @@ def select_mesh(ob):
 
 
 def steps():
-    from edge_deform import modal_tool, progress, ui
+    from edge_deform import modal, op_common, ui
     tap('ESC')   # dismiss the splash screen
     yield
     handle, static = setup()
@@ -112,7 +112,7 @@ def steps():
 
     # ------------------------------------------------------------ progress during Bind
     seen = []
-    progress.progress_listeners.append(
+    op_common.progress_listeners.append(
         lambda kind, text, fraction: seen.append((kind, text)))
     with override():
         assert bpy.ops.edge_deform.bind('EXEC_DEFAULT', True) == {'FINISHED'}
@@ -123,7 +123,7 @@ def steps():
     # ------------------------------------------------------------ Live: a second is refused
     with override():
         assert bpy.ops.edge_deform.live('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
-    tool = modal_tool.running_tool(ob)
+    tool = modal.running_tool(ob)
     assert tool is not None
     with Told() as told, override():
         try:   # an ERROR report raises in a script call
@@ -131,7 +131,7 @@ def steps():
         except RuntimeError:
             second = {'CANCELLED'}
     assert second == {'CANCELLED'} and told.has('ERROR', "already running"), told.messages
-    assert modal_tool.running_tool() is tool, "the first Live goes on"
+    assert modal.running_tool() is tool, "the first Live goes on"
     print("second live refused: ok")
 
     # ------------------------------------------------------------ the wheel zooms
@@ -167,7 +167,7 @@ def steps():
     yield from until(lambda: bpy.context.view_layer.objects.active == ctrl())
     assert bpy.context.view_layer.objects.active == ctrl(), "a click selects the controller"
     assert ctrl().select_get() and not ob.select_get()
-    assert modal_tool.running_tool() is tool, "the click does not end Live"
+    assert modal.running_tool() is tool, "the click does not end Live"
     assert ui.deformed_object(bpy.context) == ob, "the panel stays for the mesh"
     c0 = ctrl().matrix_world.translation.copy()
     yield from g_drag((0, 60), (0, 120))
@@ -178,7 +178,7 @@ def steps():
     assert np.linalg.norm(moved) > 0.05, "G moved the controller"
     follow = (key_positions(ob)[handle] - rest[handle]).mean(axis=0)
     assert np.abs(follow - moved).max() < 1e-3, "the mesh follows the G move"
-    assert modal_tool.running_tool() is tool
+    assert modal.running_tool() is tool
     assert "settling…" in tool.status_text, tool.status_text
     # "settled" on a move the solver settles: where G lands depends on the simulated
     # mouse, and some of those shear-and-bend moves of the plane at λ 0.5 never report
@@ -196,20 +196,20 @@ def steps():
     # Tolerance 0 never converges: Live stops after settle.SETTLE_LIMIT iterations, says
     # so, leaves the mesh alone, and goes on when a controller moves. (A lower limit than
     # the add-on's, so that a loaded machine's slow ticks reach it in time.)
-    from edge_deform import settle
-    settle.SETTLE_LIMIT, limit = 300, settle.SETTLE_LIMIT
+    from edge_deform import modal_rules
+    modal_rules.SETTLE_LIMIT, limit = 300, modal_rules.SETTLE_LIMIT
     ob.edge_deform.tolerance = 0.0
     ctrl().location = c0 + Vector((0.0, 0.0, -0.15))
     yield from until(lambda: "stopped after" in (tool.status_text or ""), 60)
     assert ("stopped after" in tool.status_text and "not converged" in tool.status_text
             and "move a controller to go on" in tool.status_text), tool.status_text
-    assert tool.settle_iterations >= settle.SETTLE_LIMIT
+    assert tool.settle.iterations >= modal_rules.SETTLE_LIMIT
     updates, shape = tool.updates, key_positions(ob).copy()
     for _ in range(30):
         yield
     assert tool.updates == updates and np.array_equal(key_positions(ob), shape), \
         "Live rests after giving up, the mesh untouched"
-    ob.edge_deform.tolerance, settle.SETTLE_LIMIT = 1e-3, limit
+    ob.edge_deform.tolerance, modal_rules.SETTLE_LIMIT = 1e-3, limit
     ctrl().location = c0 + Vector((0.0, 0.0, -0.2))
     yield from until(lambda: tool.updates > updates
                      and "stopped after" not in (tool.status_text or ""))
@@ -227,7 +227,7 @@ def steps():
     assert ob.mode == 'EDIT', "Tab enters Edit Mode during Live"
     tap('TAB')
     yield from until(lambda: ob.mode == 'OBJECT')
-    assert ob.mode == 'OBJECT' and modal_tool.running_tool() is tool
+    assert ob.mode == 'OBJECT' and modal.running_tool() is tool
     print("Tab enters and leaves Edit Mode: ok")
 
     # ------------------------------------------------------------ Outliner pick, then G
@@ -235,7 +235,7 @@ def steps():
     yield from pick_in_outliner(ctrl())
     assert bpy.context.view_layer.objects.active == ctrl(), "the Outliner selects it"
     assert ctrl().select_get() and not ob.select_get()
-    assert modal_tool.running_tool() is tool, "the Outliner click does not end Live"
+    assert modal.running_tool() is tool, "the Outliner click does not end Live"
     with sidebar_override():
         assert ui.EDGE_DEFORM_PT_main.poll(bpy.context), "the panel stays"
         assert ui.deformed_object(bpy.context) == ob, "for the controller's mesh"
@@ -251,13 +251,13 @@ def steps():
     assert np.linalg.norm(moved_now) > 0.05, "G moved the controller picked in the Outliner"
     assert np.abs((key_positions(ob)[handle] - before[handle]).mean(axis=0)
                   - moved_now).max() < 1e-3, "the mesh follows"
-    assert modal_tool.running_tool() is tool
+    assert modal.running_tool() is tool
     print("the Outliner selects the controller during Live, the panel stays, G moves it, "
           "the mesh follows: ok")
     select_mesh(ob)
     tap('RET')
-    yield from until(lambda: modal_tool.running_tool() is None)
-    assert modal_tool.running_tool() is None, "Enter keeps"
+    yield from until(lambda: modal.running_tool() is None)
+    assert modal.running_tool() is None, "Enter keeps"
     assert bpy.context.preferences.edit.use_global_undo, "Global Undo is back on"
     for _ in range(3):   # let the operator push its undo step
         yield
@@ -286,11 +286,11 @@ def steps():
         yield
     yield from until(lambda: (ctrl().matrix_world.translation - c0).length > 0.05)
     c1 = ctrl().matrix_world.translation.copy()
-    yield from until(lambda: "settled" in (modal_tool.running_tool().status_text or "")
+    yield from until(lambda: "settled" in (modal.running_tool().status_text or "")
                      and np.abs((key_positions(ob)[handle] - before[handle]).mean(axis=0)
                                 - np.array(c1 - c0)).max() < 1e-3)
     tap('RET')
-    yield from until(lambda: modal_tool.running_tool() is None)
+    yield from until(lambda: modal.running_tool() is None)
     for _ in range(3):   # let the operator push its undo step
         yield
     kept = key_positions(ob).copy()

@@ -62,8 +62,8 @@ def marked_graph_work(seen):
     """Record in `seen` when the graph work really runs: ('ran', 'build' or 'factor',
     domain) at the start of Binding.build and Binding.sync (which factors). Returns the
     function that puts the originals back."""
-    from edge_deform import session
-    build, sync = session.Binding.build, session.Binding.sync
+    from edge_deform import engine
+    build, sync = engine.Binding.build, engine.Binding.sync
 
     def marked_build(binding, ed, domain):
         seen.append(('ran', 'build', domain))
@@ -73,10 +73,10 @@ def marked_graph_work(seen):
         seen.append(('ran', 'factor', inputs.domain))
         return sync(binding, ed, inputs, owner)
 
-    session.Binding.build, session.Binding.sync = marked_build, marked_sync
+    engine.Binding.build, engine.Binding.sync = marked_build, marked_sync
 
     def unmark():
-        session.Binding.build, session.Binding.sync = build, sync
+        engine.Binding.build, engine.Binding.sync = build, sync
     return unmark
 
 
@@ -89,7 +89,7 @@ def live_domain_switch(ob, ctrl, seen):
     Live has no domain key): the status bar names the rebuild's stages before they run,
     Live goes on with the new graph and the mesh follows the controller. A second switch
     cancelled by Esc keeps the graph and leaves the mesh as it was; Enter keeps."""
-    from edge_deform import modal_tool, op_common, output_checks, session
+    from edge_deform import engine, mesh_io, modal, op_common
     s = ob.edge_deform
     s.iterations, s.tolerance = 20, 1e-3
     rest = positions(ob.data)
@@ -97,7 +97,7 @@ def live_domain_switch(ob, ctrl, seen):
     with Told() as told:
         with override():
             assert bpy.ops.edge_deform.live('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
-        tool = modal_tool.running_tool(ob)
+        tool = modal.running_tool(ob)
         yield from until(lambda: "settled" in (tool.status_text or ""), 120)
         assert "settled" in tool.status_text, tool.status_text
         at_cancel = []
@@ -124,8 +124,8 @@ def live_domain_switch(ob, ctrl, seen):
                 "the status bar showed the factoring before it ran: %s" % seen
             kinds = [k for k, _, _ in seen]
             assert kinds.count('begin') == 1 and kinds.count('end') == 1, kinds
-            assert modal_tool.running_tool(ob) is tool, "Live goes on after the switch"
-            assert session.get(ob.data.as_pointer()).domain == 'PRIMAL'
+            assert modal.running_tool(ob) is tool, "Live goes on after the switch"
+            assert engine.cached_binding(ob.data.as_pointer()).domain == 'PRIMAL'
             print("live domain switch: %d stages drawn before they ran: ok"
                   % kinds.count('drawn'))
 
@@ -156,27 +156,27 @@ def live_domain_switch(ob, ctrl, seen):
                 op_common.listeners.remove(capture)
         assert told.has('WARNING', "Domain switch cancelled: the vertex graph is kept"), \
             told.messages
-        assert modal_tool.running_tool(ob) is tool, "Esc ended the switch, not Live"
-        assert s.domain == 'PRIMAL' and session.get(ob.data.as_pointer()).domain == 'PRIMAL'
+        assert modal.running_tool(ob) is tool, "Esc ended the switch, not Live"
+        assert s.domain == 'PRIMAL' and engine.cached_binding(ob.data.as_pointer()).domain == 'PRIMAL'
         assert at_cancel == [before], "a cancelled switch writes nothing"
         assert [k for k, _, _ in seen if k in ('begin', 'end')] == ['begin', 'end'], seen
         tap('RET')
-        yield from until(lambda: modal_tool.running_tool() is None, 60)
+        yield from until(lambda: modal.running_tool() is None, 60)
     assert told.has('INFO', "Live Deform kept the shape"), told.messages
-    assert output_checks.owned_key(ob.data) is not None
+    assert mesh_io.owned_key(ob.data) is not None
     print("Esc during a domain switch keeps the vertex graph, mesh unchanged; Enter "
           "keeps: ok")
 
 
 def steps():
-    from edge_deform import progress
+    from edge_deform import op_common
     tap('ESC')   # dismiss the splash screen
     yield
     setup()
     ob, ctrl = big_grid()
     assert len(ob.data.vertices) == N * N
     seen = []
-    progress.progress_listeners.append(
+    op_common.progress_listeners.append(
         lambda kind, text, fraction: seen.append((kind, text, fraction)))
 
     # ------------------------------------------------------------ Esc stops a Bind

@@ -103,9 +103,9 @@ def s1_live_keys_and_circle():
         yield
     yield from until(lambda: abs(s.proportional_radius - r0) < 1e-5 * r0, 5)
     assert abs(s.proportional_radius - r0) < 1e-5 * r0, s.proportional_radius
-    from edge_deform import proportional
-    yield from until(lambda: proportional.length(r0) in region_text(), 5)
-    assert "Proportional: %s" % proportional.length(r0) in region_text(), region_text()
+    from edge_deform import engine
+    yield from until(lambda: engine.length(r0) in region_text(), 5)
+    assert "Proportional: %s" % engine.length(r0) in region_text(), region_text()
     assert "Wheel/PgUp/PgDn" in region_text(), region_text()
     tap('O', at=center(), alt=True)
     yield from until(lambda: "connected only" in region_text(), 5)
@@ -210,9 +210,9 @@ def s4_grab_keys_header_and_resize():
                 and running().settle.at_rest and running().settle.iterations > 0
                 and np.abs(running().delta).max() > 0)
     yield from until(settled_drag, 30)
-    from edge_deform import proportional
+    from edge_deform import engine
     header = running().header_text
-    assert "Proportional: %s" % proportional.length(r0) in header, header
+    assert "Proportional: %s" % engine.length(r0) in header, header
     drawn = running().status_drawn or []
     assert "Wheel/PgUp/PgDn: radius" in drawn and "O: proportional off" in drawn, drawn
     lifted = key_positions(ob)[handle].astype(float) - rest[handle]
@@ -221,7 +221,7 @@ def s4_grab_keys_header_and_resize():
     before = window_pixels("proportional_grab_before.png")
     tap('WHEELDOWNMOUSE', at=center(0, 60))
     yield from until(lambda: abs(s.proportional_radius - 1.1 * r0) < 1e-5 * r0, 5)
-    assert "Proportional: %s" % proportional.length(1.1 * r0) in running().header_text
+    assert "Proportional: %s" % engine.length(1.1 * r0) in running().header_text
     yield from until(settled_drag, 30)
     yield
     after = window_pixels("proportional_grab_wheel.png")

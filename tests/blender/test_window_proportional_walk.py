@@ -28,7 +28,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from helpers import (Told, activate, add_group, add_handle, bpy, make_object, np,  # noqa: E402
-                     positions, select_only, session, visible)
+                     positions, select_only, engine, visible)
 from bpy_extras.view3d_utils import location_3d_to_region_2d  # noqa: E402
 from mathutils import Vector  # noqa: E402
 from window_harness import (at_rest, center, ctrl, dragged_at_rest, event, main,  # noqa: E402
@@ -84,7 +84,7 @@ class SolveCalls:
     checks, factoring ms)."""
 
     def __enter__(self):
-        self.calls, self.original = [], session.Binding.solve
+        self.calls, self.original = [], engine.Binding.solve
         original, calls = self.original, self.calls
 
         def solve(binding, targets, iterations, *args, **kwargs):
@@ -94,11 +94,11 @@ class SolveCalls:
                           (time.perf_counter() - t0) * 1e3, int(r.claim_checks),
                           float(r.factor_ms)))
             return r
-        session.Binding.solve = solve
+        engine.Binding.solve = solve
         return self
 
     def __exit__(self, *exc):
-        session.Binding.solve = self.original
+        engine.Binding.solve = self.original
         return False
 
     def of_size(self, free):
@@ -108,7 +108,7 @@ class SolveCalls:
 def whole_mesh_calls_are_measured_first(calls, free, what):
     """The first call on the whole mesh asks for no more than LEAST_ITERATIONS; prints the
     calls' speed and the longest call (no time is asserted: a shared machine)."""
-    from edge_deform import settle
+    from edge_deform import modal_rules
     whole = calls.of_size(free)
     assert whole, "%s: no whole-mesh solve (%d free) among %s" % (
         what, free, sorted({c[0] for c in calls.calls}))
@@ -120,7 +120,7 @@ def whole_mesh_calls_are_measured_first(calls, free, what):
              max(c[2] for c in whole)))
     print("  calls (iterations, ms, checks, factoring ms): %s" % [
         (c[1], round(c[2]), c[3], round(c[4])) for c in whole])
-    assert whole[0][1] <= settle.LEAST_ITERATIONS, (
+    assert whole[0][1] <= modal_rules.LEAST_ITERATIONS, (
         "%s: the first whole-mesh call asked for %d iterations, sized from the region's "
         "speed" % (what, whole[0][1]))
 

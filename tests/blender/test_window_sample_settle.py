@@ -38,18 +38,18 @@ def build_sample():
 
 
 def shown(ob):
-    from edge_deform import shown_shape
-    return shown_shape.addon_shape(ob)
+    from edge_deform import mesh_io
+    return mesh_io.addon_shape(ob)
 
 
 def group_weights(ob, group):
-    from edge_deform import mesh_arrays
-    return mesh_arrays.read_group_weights(ob, [group])[group]
+    from edge_deform import mesh_io
+    return mesh_io.read_group_weights(ob, [group])[group]
 
 
 def running():
-    from edge_deform import modal_tool
-    return modal_tool.running_tool()
+    from edge_deform import modal
+    return modal.running_tool()
 
 
 def status():

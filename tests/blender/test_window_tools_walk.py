@@ -22,7 +22,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from helpers import (OUT, Told, activate, bpy, key_positions, np, positions,  # noqa: E402
-                     select_only, session, visible)
+                     select_only, engine, visible)
 from window_harness import (at_rest, center, ctrl, dragged_at_rest, event, main,  # noqa: E402
                             override, plane, running, tap, until)
 from window_ui import (LEFT, grab_from_the_panel, live_from_the_panel,  # noqa: E402
@@ -112,17 +112,17 @@ def l2_esc_of_live_keeps_the_graph():
     yield from until(lambda: running() is None)
     assert ob.data.shape_keys is None, "Esc restored the mesh"
     assert lifecycle.is_bound(ob.data), "after Esc the panel says Not bound"
-    builds, build = [], session.Binding.build
+    builds, build = [], engine.Binding.build
 
     def counted(binding, *args):
         builds.append(1)
         return build(binding, *args)
-    session.Binding.build = counted
+    engine.Binding.build = counted
     try:
         yield from live_from_the_panel(ob)
         yield from until(at_rest, 30)
     finally:
-        session.Binding.build = build
+        engine.Binding.build = build
     assert not builds, "the second Live built the graph again"
 
 

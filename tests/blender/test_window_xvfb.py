@@ -114,17 +114,17 @@ def steps():
     ctrl().location.z += 0.1
     yield from until(lambda: abs(key_positions(plane())[handle[0], 2]
                                  - kept[handle[0], 2] - 0.1) < 1e-4)
-    from edge_deform import modal_tool
+    from edge_deform import modal
     event('MOUSEMOVE', at=center(0, -150))   # away from the plane: a click, no selection
     yield
     tap('LEFTMOUSE', at=center(0, -150))
     for _ in range(5):
         yield
-    assert modal_tool.running_tool() is not None, "a selection click does not end Live"
+    assert modal.running_tool() is not None, "a selection click does not end Live"
     ctrl().location.z -= 0.1                 # live goes on: the mesh follows
     yield from until(lambda: np.abs(key_positions(plane()) - kept).max() < 1e-4)
     tap('ESC')
-    yield from until(lambda: modal_tool.running_tool() is None)
+    yield from until(lambda: modal.running_tool() is None)
     assert np.array_equal(key_positions(plane()), kept), "Esc restores bit-exact"
     print("live: a left click selects, Live goes on; Esc: ok")
 
@@ -187,13 +187,13 @@ def steps():
         bpy.ops.edge_deform.grab('INVOKE_DEFAULT')
     # Tolerance 0 never converges: the resting grab must give up (at a lower limit than
     # the add-on's, so that a loaded machine's slow ticks reach it in time).
-    from edge_deform import settle
-    settle.SETTLE_LIMIT, limit = 200, settle.SETTLE_LIMIT
+    from edge_deform import modal_rules
+    modal_rules.SETTLE_LIMIT, limit = 200, modal_rules.SETTLE_LIMIT
     ob.edge_deform.tolerance = 0.0
     event('MOUSEMOVE', at=center(0, 70))
     yield from until(lambda: ob.data.shape_keys is not None and np.linalg.norm(
         key_positions(ob)[handle] - rest[handle], axis=1).min() > 0.01)
-    grab = modal_tool.running_tool()
+    grab = modal.running_tool()
     yield from until(lambda: "stopped after" in (grab.header_text or ""), 60)
     assert "not converged" in grab.header_text and "move the mouse to go on" in \
         grab.header_text, grab.header_text
@@ -201,7 +201,7 @@ def steps():
     for _ in range(20):
         yield
     assert np.array_equal(key_positions(ob), shape), "a grab that gave up leaves the mesh"
-    ob.edge_deform.tolerance, settle.SETTLE_LIMIT = 1e-3, limit
+    ob.edge_deform.tolerance, modal_rules.SETTLE_LIMIT = 1e-3, limit
     tap('RET', at=center(0, 70))
     yield from until(lambda: ob.mode == 'EDIT')
     with override():

@@ -112,8 +112,8 @@ def ctrl():
 
 def running():
     """The Edge Deform tool running now, or None."""
-    from edge_deform import modal_tool
-    return modal_tool.running_tool()
+    from edge_deform import modal
+    return modal.running_tool()
 
 
 def at_rest():

@@ -34,8 +34,8 @@ def positions(ob):
 
 def group_weights(ob, name):
     """(n,) weights of a vertex group (0 outside), through the add-on's bulk reader."""
-    from edge_deform import mesh_arrays
-    return mesh_arrays.read_group_weights(ob, [name])[name].astype(np.float64)
+    from edge_deform import mesh_io
+    return mesh_io.read_group_weights(ob, [name])[name].astype(np.float64)
 
 
 def check_scene(scene):

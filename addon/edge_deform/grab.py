@@ -7,13 +7,13 @@ a global axis (press again to free it), Enter/click confirms, Esc/right click re
 The mesh is shown in Object Mode while dragging (bpy can only write whole arrays there) and
 Edit Mode comes back at the end, showing the dragged shape: with Output Shape Key the
 output key becomes the active key, the one Edit Mode shows and edits. The drag starts from
-the shape shown (shown_shape.py: after Bake, the frame on screen). Other handle groups stay
+the shape shown (mesh_io.addon_shape: after Bake, the frame on screen). Other handle groups stay
 where they are shown; static vertices and vertices outside the region stay at rest. No
 handle is needed: the dragged vertices are the handle (record 0068). On confirm, a handle
-whose vertices were dragged holds them where they are (handle_holds.py); how many dragged
+whose vertices were dragged holds them where they are (mesh_io.hold_at); how many dragged
 vertices no handle holds is noted, for Live to say before a solve moves them.
 
-A state machine (modal_states.Grab), with Live's settle policy (settle.py).
+A state machine (modal_rules.Grab), with Live's settle policy (modal_rules.Settle).
 """
 
 import bpy
@@ -21,11 +21,11 @@ import numpy as np
 from bpy_extras.view3d_utils import region_2d_to_location_3d
 from mathutils import Vector
 
-from . import (compat, engine, handle_holds, lifecycle, mesh_arrays, output, output_checks,
-               overlay, proportional, settle, shown_shape)
-from .modal_states import Grab, GrabEvent, grab_next
-from .modal_tool import ModalTool
+from . import compat, engine, lifecycle, mesh_io, modal, modal_rules, overlay
+from .modal import ModalTool
+from .modal_rules import Grab, GrabEvent, grab_next
 from .op_common import error_text, guarded, over_the_view, poll_mesh, tell
+
 
 AXES = {'X': 0, 'Y': 1, 'Z': 2}
 NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'TRACKPADPAN',
@@ -64,27 +64,27 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
     def invoke(self, context, event):
         self.refuse_if_running()
         ob = context.active_object
-        moving = np.flatnonzero(mesh_arrays.read_selection(ob))
+        moving = np.flatnonzero(mesh_io.read_selection(ob))
         solver = None
         try:
             if moving.size == 0:
-                raise engine.EdgeDeformError("Select the vertices to drag")
+                raise mesh_io.EdgeDeformError("Select the vertices to drag")
             inputs = engine.gather_inputs(ob, require_handles=False)
             moving = np.setdiff1d(moving, inputs.static)
             if inputs.roi is not None:
                 moving = np.intersect1d(moving, inputs.roi)
             if moving.size == 0:
-                raise engine.EdgeDeformError("The selection is static or outside the region")
+                raise mesh_io.EdgeDeformError("The selection is static or outside the region")
             compat.mode_set(ob, 'OBJECT')
             solver = lifecycle.prepare(ob, inputs)
-            current = shown_shape.addon_shape(ob)
+            current = mesh_io.addon_shape(ob)
             pinned = np.setdiff1d(inputs.handles, moving)
             self.held = np.concatenate([moving, pinned])
             self.moving = moving        # (hold measures the radius from them)
             self.group_region = None
             try:
                 self.hold(solver, ob)
-            except proportional.NothingFree as exc:
+            except engine.NothingFree as exc:
                 raise self.why_nothing_is_free(exc, solver) from None
         except Exception:
             if solver is not None:
@@ -98,7 +98,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.start = current[moving]
         self.pinned = current[pinned]
         self.n_moving = moving.size
-        self.mw = mesh_arrays.matrix_to_numpy(ob.matrix_world)
+        self.mw = mesh_io.matrix_to_numpy(ob.matrix_world)
         self.depth = ob.matrix_world @ Vector(self.start.mean(axis=0))
         self.region, self.rv3d = view_region(context)
         self.mouse = self.in_region(event)
@@ -111,7 +111,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.axis = None
         self.first = True           # the first solve starts from what is shown
         self.delta = np.zeros(3)
-        self.settle = settle.Settle()
+        self.settle = modal_rules.Settle()
         self.stats = ""
         self.refused = None         # why the last radius change was refused, for the header
         self.start_modal(context, ob)
@@ -148,11 +148,11 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         rather than blame the radius."""
         inputs = solver.inputs
         pinned = np.setdiff1d(self.held, self.moving)
-        if not proportional.held_within(solver.binding.X, self.moving, exc.radius,
+        if not modal.held_within(solver.binding.X, self.moving, exc.radius,
                                         np.concatenate([pinned, inputs.static])):
             return exc
         names = [g.group for g in inputs.handle_groups if np.isin(g.indices, pinned).any()]
-        return proportional.pinned_refusal(exc.radius, exc.connected, names)
+        return modal.pinned_refusal(exc.radius, exc.connected, names)
 
     def region_vertices(self, solver, ob):
         """The Region group's vertices (None: the whole mesh). With proportional on at the
@@ -173,11 +173,11 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.refused = None
         try:
             self.hold(self.solver, self.ob)
-        except engine.EdgeDeformError as exc:
+        except mesh_io.EdgeDeformError as exc:
             setattr(s, name, before)
             self.hold(self.solver, self.ob)
-            self.refused = proportional.short_kept(exc, s)
-            tell(self, 'WARNING', proportional.kept(exc, s))
+            self.refused = modal.short_kept(exc, s)
+            tell(self, 'WARNING', modal.kept(exc, s))
         if self.written is not None:
             self.current = self.written   # the next solve starts from the shape shown
         self.first = True
@@ -187,11 +187,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
 
     def circles_where(self):
         """Around the dragged vertices where the pointer has put them."""
-        return proportional.circles(self.ob, [self.start + self.delta])
-
-    @property
-    def settle_iterations(self):
-        return self.settle.iterations
+        return modal.circles(self.ob, [self.start + self.delta])
 
     def go(self, event):
         self.state = grab_next(self.state, event)
@@ -229,7 +225,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
                 # pointer moved: a cold start straight at a far target can stall (the
                 # plane, a 0.27 drag: 2,000 iterations unconverged; this way 1,660, settled).
                 self.first = False
-                self.solver.solve(self.current[self.held], settle.LEAST_ITERATIONS,
+                self.solver.solve(self.current[self.held], modal_rules.LEAST_ITERATIONS,
                                   s.tolerance, warm=True, initial=self.current,
                                   check_claims=False)
             return self.solver.solve(targets, n, s.tolerance, warm=True,
@@ -243,14 +239,14 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
             self.go(GrabEvent.FAILED)
             return
         self.go(GrabEvent.SETTLED if self.settle.at_rest else GrabEvent.ITERATED)
-        self.stats = settle.describe(self.settle, "move the mouse")
+        self.stats = modal_rules.describe(self.settle, "move the mouse")
         self.show()
 
     def show(self):
         """Blender's G way: the tool's state in the header while it runs, short enough for
         a narrow view (its keys are in the status bar, as G's are)."""
         s = self.ob.edge_deform
-        region = self.refused or proportional.describe(s, self.settle.runs_long)
+        region = self.refused or modal.describe_region(s, self.settle.runs_long)
         if self.state == Grab.WAITING:
             self.header("Grab Deform: %d vertices | move the pointer in the view to drag | %s"
                         % (self.n_moving, region))
@@ -275,12 +271,12 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
 
     def handle(self, context, event):
         s = self.ob.edge_deform
-        toggled = proportional.toggle_key(event)
-        factor = proportional.size_key(event) if s.proportional else None
+        toggled = modal.toggle_key(event)
+        factor = modal.size_key(event) if s.proportional else None
         if toggled is not None:
             self.change_region(toggled, not getattr(s, toggled))
         elif factor is not None:
-            self.change_region("proportional_radius", proportional.resized(s, factor))
+            self.change_region("proportional_radius", modal.resized(s, factor))
         elif event.type == 'MOUSEMOVE':
             self.mouse = self.in_region(event)
             if self.state == Grab.WAITING:
@@ -330,7 +326,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
 
     def keep_the_edit(self):
         """Confirmed: handles whose vertices were dragged hold them where they are now;
-        the dragged vertices no handle holds are counted (output.note_unheld_edit)."""
+        the dragged vertices no handle holds are counted (mesh_io.note_unheld_edit)."""
         if self.written is None or self.lost():
             return
         inputs, mesh = self.solver.inputs, self.ob.data
@@ -341,13 +337,13 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
                 motion = None if g.controller is None else np.array(
                     self.ob.matrix_world.inverted_safe() @ g.controller.matrix_world
                     @ g.rest_inverse)
-                handle_holds.hold(mesh, rest, dragged, self.written[dragged], motion)
-        output.note_unheld_edit(mesh, np.setdiff1d(self.moving, inputs.handles).size)
+                mesh_io.hold_at(mesh, rest, dragged, self.written[dragged], motion)
+        mesh_io.note_unheld_edit(mesh, np.setdiff1d(self.moving, inputs.handles).size)
 
     def show_output_in_edit_mode(self):
         """Edit Mode shows (and edits) the active shape key: make it the output key, so
         the artist sees the mesh as dragged (Esc's snapshot keeps the previous one)."""
-        kb = output_checks.owned_key(self.ob.data)
+        kb = mesh_io.owned_key(self.ob.data)
         if self.ob.edge_deform.output == 'SHAPE_KEY' and kb is not None:
             index = self.ob.data.shape_keys.key_blocks.find(kb.name)
             if self.ob.active_shape_key_index != index:

@@ -2,40 +2,40 @@
 
 Controllers are moved by anything (G/R/S, gizmos, drivers, scripts): every timer tick the
 transforms and every setting Live reads are compared with the last solved ones. Live is a
-state machine (modal_states.Live): each tick observes Blender, acts, and moves on by
-modal_states.live_next. A tick that iterates spends a time budget, not a fixed count
-(settle.py), so slow redraws do not throttle the solve; the shape settles over the
-following ticks, or Live stops after settle.SETTLE_LIMIT iterations since the last change
+state machine (modal_rules.Live): each tick observes Blender, acts, and moves on by
+modal_rules.live_next. A tick that iterates spends a time budget, not a fixed count
+(modal_rules.Settle), so slow redraws do not throttle the solve; the shape settles over the
+following ticks, or Live stops after modal_rules.SETTLE_LIMIT iterations since the last change
 and says so. Only this main-thread timer touches bpy.
 
 What Live says goes in a text over the viewport (overlay.py) and the panel: the header
 and the status bar stay Blender's, so a G/R/S inside Live shows its own value, axis and
 hints, and a refused key's reason shows in the status bar and over the view.
 
-Live starts from the shape shown (shown_shape.py): any solve that would start from
+Live starts from the shape shown (mesh_io.addon_shape): any solve that would start from
 scratch (the first, or after a rebind) starts from it, and on a Grab edit no handle holds
 Live solves nothing until something changes, saying so first (Live.HOLDING). With the mesh
 active it makes the active handle's controller what G/R/S move; Esc gives back the
-selection and every transform moved inside the session (live_selection.py).
+selection and every transform moved inside the session (Surroundings, at the end).
 
 While the object is in another mode (the user entered Edit Mode) the tool pauses; back in
 Object Mode it binds again (the topology may have changed). Undo or the object's deletion
 end it cleanly.
 
 A domain change (from the panel) needs a new graph, built and factored: seconds on a big
-mesh. Live runs it as stages, one per tick (progress.Stages): the status bar names each
+mesh. Live runs it as stages, one per tick (op_common.Stages): the status bar names each
 stage before it runs, with the progress and the wait cursor; Esc between stages keeps the
 previous domain and its graph, the mesh untouched (nothing is written until it is done).
 """
 
 import bpy
 
-from . import (engine, lifecycle, live_selection, modal_tool, overlay, preferences,
-               proportional, settle, shown_shape, solver_cache)
-from .modal_states import Live, LiveEvent, live_next
-from .modal_tool import ModalTool
-from .op_common import deformed_object, error_text, guarded, over_the_view, poll_mesh, tell
-from .progress import Stages
+from . import engine, lifecycle, mesh_io, modal, modal_rules, overlay, properties
+from .modal import ModalTool
+from .modal_rules import Live, LiveEvent, live_next
+from .op_common import (Stages, deformed_object, error_text, guarded, over_the_view,
+                        poll_mesh, select_only, tell)
+
 
 LAMBDA_STEP = 0.05
 # The settings Live reads, by what a change needs: a new read of the groups and a rebind,
@@ -84,7 +84,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.saved_handles = handle_settings(s)
         self.saved_controllers = [(g.controller, g.controller.matrix_world.copy())
                                   for g in self.solver.inputs.handle_groups if g.controller]
-        self.surroundings = live_selection.Surroundings(context.view_layer, ob)
+        self.surroundings = Surroundings(context.view_layer, ob)
         unheld = ob.data.edge_deform_state.unheld   # a Grab edit no handle holds
         self.state = Live.HOLDING if unheld else Live.SOLVING
         self.seen_settings = self.watched_settings(ob)
@@ -94,17 +94,17 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.problem = None
         self.status_text = "no solve yet"
         self.status = "no solve yet"
-        self.hint = None            # what G/R/S move, in words (live_selection)
+        self.hint = None            # what G/R/S move, in words (what_g_moves)
         self.updates = 0
-        self.settle = settle.Settle()
+        self.settle = modal_rules.Settle()
         self.hinted = False         # the long-settle hint was given (once a session)
-        self.keys_up, self.keys_down, self.keys_label = preferences.stiffness_keys(context)
+        self.keys_up, self.keys_down, self.keys_label = properties.stiffness_keys(context)
         self.start_modal(context, ob)
         self.text = overlay.ViewportText(self.area)
         self.circles = overlay.RadiusCircles(self.area, self.circles_where)
         self.hold_undo_steps(context)
         self.surroundings.select_controller(self.active_controller())
-        self.hint = live_selection.what_g_moves(context.view_layer, ob)
+        self.hint = what_g_moves(context.view_layer, ob)
         for w in self.solver.warnings():
             tell(self, 'WARNING', w)
         if unheld:
@@ -125,10 +125,6 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         if order:
             order.insert(0, order[min(s.active_handle, len(order) - 1)])
         return next((h.controller for h in order if h.controller is not None), None)
-
-    @property
-    def settle_iterations(self):
-        return self.settle.iterations
 
     def go(self, event):
         self.state = live_next(self.state, event)
@@ -182,22 +178,22 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.problem = None
         self.updates += 1
         self.go(LiveEvent.SETTLED if self.settle.at_rest else LiveEvent.ITERATED)
-        self.show(settle.describe(self.settle, "move a controller"))
+        self.show(modal_rules.describe(self.settle, "move a controller"))
         if self.settle.runs_long and not self.hinted and not self.ob.edge_deform.proportional:
             self.hinted = True
-            self.say('INFO', proportional.LONG_SETTLE_HINT)
+            self.say('INFO', modal.LONG_SETTLE_HINT)
 
     def solve(self, targets, iterations, check_claims):
         """More warm iterations; a solve that would start from scratch (the first, or after
         a new graph or new constraints) starts from the shape shown instead."""
-        initial = (shown_shape.addon_shape(self.ob) if self.solver.binding.starts_cold
+        initial = (mesh_io.addon_shape(self.ob) if self.solver.binding.starts_cold
                    else None)
         return self.solver.solve(targets, iterations, self.ob.edge_deform.tolerance,
                                  initial=initial, check_claims=check_claims)
 
     def follow_selection(self, context):
         """The text over the view names what G/R/S move; the artist may pick another."""
-        hint = live_selection.what_g_moves(context.view_layer, self.ob)
+        hint = what_g_moves(context.view_layer, self.ob)
         if hint != self.hint:
             self.hint = hint
             self.show(self.status)
@@ -334,8 +330,8 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
                      else "%s stiffness" % self.keys_label)
         self.text.set([self.status_text,
                        "Enter keep · Esc cancel · %s · %s" % (stiffness, self.hint),
-                       "%s · %s" % (proportional.describe(s, self.settle.runs_long),
-                                    proportional.KEYS)])
+                       "%s · %s" % (modal.describe_region(s, self.settle.runs_long),
+                                    modal.KEYS)])
 
     def end_report(self):
         """What Enter kept, in one sentence."""
@@ -374,7 +370,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         in_view = over_the_view(self.area, event)
         if event.value == 'PRESS' and self.ob.mode == 'OBJECT' and in_view:
             for key, up in ((self.keys_up, True), (self.keys_down, False)):
-                if preferences.pressed(event, key):
+                if properties.pressed(event, key):
                     self.change_stiffness(context, up)
                     return {'RUNNING_MODAL'}
             if event.type in {'RET', 'NUMPAD_ENTER'} and not (event.ctrl or event.alt):
@@ -398,13 +394,13 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         """O, Alt+O, the wheel and Page Up/Down (pressed over the view in Object Mode):
         the proportional region. True when the key was taken (off, the wheel zooms)."""
         s = self.ob.edge_deform
-        toggled = proportional.toggle_key(event)
+        toggled = modal.toggle_key(event)
         if toggled is not None:
             self.change_region(context, toggled, not getattr(s, toggled))
             return True
-        factor = proportional.size_key(event)
+        factor = modal.size_key(event)
         if factor is not None and s.proportional:
-            self.change_region(context, "proportional_radius", proportional.resized(s, factor))
+            self.change_region(context, "proportional_radius", modal.resized(s, factor))
             return True
         return False
 
@@ -429,15 +425,15 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
             return          # (a pause, refusal or switch reads it when it ends)
         try:
             self.follow_radius() if name in RADIUS_SETTINGS else self.rebind()
-        except engine.EdgeDeformError as exc:
+        except mesh_io.EdgeDeformError as exc:
             setattr(s, name, before)
             self.follow_radius() if name in RADIUS_SETTINGS else self.rebind()
-            self.say('WARNING', proportional.kept(exc, s))
+            self.say('WARNING', modal.kept(exc, s))
         else:
             if name == "proportional" and not value:
                 # Deliberately from the shape shown (record 0068): what the artist sees
                 # goes on, where a fresh solve from the rest may settle elsewhere.
-                self.text.tell(proportional.OFF_CONTINUES)
+                self.text.tell(modal.OFF_CONTINUES)
         self.update(context)
 
     def follow_radius(self):
@@ -456,7 +452,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         (as Blender centres its circle on what it moves); before any moves, around each."""
         if self.solver is None:
             return []
-        return proportional.circles(self.ob, engine.moving_handles(
+        return modal.circles(self.ob, engine.moving_handles(
             self.solver.targets(), self.solver.binding.X, self.solver.inputs))
 
     def finish(self, context):
@@ -466,7 +462,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
         self.end_modal(context)
         self.snapshot.discard()
         self.surroundings.give_back(cancelled=False)
-        solver_cache.start_cold(self.ob.data)
+        engine.start_cold(self.ob.data)
         tell(self, 'INFO', self.end_report())
         return {'FINISHED'}
 
@@ -566,7 +562,7 @@ class EDGE_DEFORM_OT_live_transform_keys(bpy.types.Operator):
         return {'RUNNING_MODAL'}
 
     def modal(self, context, event):
-        live = modal_tool.running_tool()
+        live = modal.running_tool()
         if not isinstance(live, EDGE_DEFORM_OT_live):
             return {'CANCELLED', 'PASS_THROUGH'}
         if event.value == 'PRESS' and event.type in ENDS_A_TRANSFORM:
@@ -578,3 +574,88 @@ class EDGE_DEFORM_OT_live_transform_keys(bpy.types.Operator):
 
 
 CLASSES = (EDGE_DEFORM_OT_live, EDGE_DEFORM_OT_live_transform_keys)
+
+
+# ----------------------------------------------------------- what Live changes around its mesh
+# What Live Deform changes around its mesh, and gives back (docs/decisions/0042).
+#
+# - The selection. Started with the mesh active, Live makes the active handle's controller
+#   the active, only selected object, so that G/R/S and the gizmos move the controller, not
+#   the mesh object; the text over the view always names what G/R/S move now.
+# - Every object's transform. Inside Live, G/R/S push no undo step of their own (Live's
+#   one step holds the session), so Esc puts back the transform of every object moved
+#   during the session, the mesh object's too: after Esc the next Ctrl+Z reaches only the
+#   step before Live, never more.
+# Esc gives both back. Enter keeps the transforms (Live's undo step holds them) and gives
+# the selection back only if it is still the one Live made (the artist's own picks stay).
+
+def what_g_moves(layer, ob):
+    """The words for what G/R/S move now, Live running on `ob`."""
+    active = layer.objects.active
+    if active is not None and active != ob and any(
+            h.controller == active for h in ob.edge_deform.handles):
+        return "G/R/S move '%s'" % active.name
+    if active == ob:
+        return "G/R/S would move the object '%s' itself: click a controller" % ob.name
+    return "click a controller to move it with G/R/S"
+
+
+def _selectable(layer, ob):
+    return (ob is not None and layer.objects.get(ob.name) == ob
+            and ob.visible_get(view_layer=layer))
+
+
+class Surroundings:
+    """The selection and the transforms as Live found them, for Esc and Enter."""
+
+    def __init__(self, layer, ob):
+        self.layer, self.ob = layer, ob
+        self.active = layer.objects.active
+        self.selected = [o for o in layer.objects if o.select_get()]
+        self.transforms = [(o, o.matrix_basis.copy()) for o in layer.objects]
+        self.made = None   # the controller Live made the active, only selected object
+
+    def select_controller(self, controller):
+        """With the mesh active, make `controller` the active, only selected object.
+        Returns it, or None when Live leaves the selection alone (started from a
+        controller or another object; no controller that can be selected)."""
+        if self.active != self.ob or not _selectable(self.layer, controller):
+            return None
+        select_only(self.layer, controller)
+        self.made = controller
+        return controller
+
+    def give_back(self, cancelled):
+        """Esc (cancelled): every moved transform and the selection as before Live. Enter:
+        the selection as before, if it is still Live's own."""
+        if cancelled:
+            for ob, matrix in self.transforms:
+                try:
+                    if ob.matrix_basis != matrix:
+                        ob.matrix_basis = matrix
+                except ReferenceError:   # deleted meanwhile
+                    pass
+        if cancelled or self._still_made():
+            self._select_as_before()
+
+    def _still_made(self):
+        layer = self.layer
+        return (self.made is not None and layer.objects.active == self.made
+                and [o for o in layer.objects if o.select_get()] == [self.made])
+
+    def _select_as_before(self):
+        keep = set()
+        for ob in self.selected:
+            try:
+                keep.add(ob.name_full)
+            except ReferenceError:   # deleted meanwhile
+                pass
+        try:
+            for other in self.layer.objects:
+                if other.select_get() != (other.name_full in keep):
+                    other.select_set(other.name_full in keep)
+            if self.active is not None and self.layer.objects.get(self.active.name) \
+                    == self.active:
+                self.layer.objects.active = self.active
+        except (ReferenceError, RuntimeError):   # an object went, or left the view layer
+            pass
