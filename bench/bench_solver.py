@@ -192,8 +192,8 @@ def plot(result, path):
     ax.axvline(1.0, color="k", lw=0.8)
     ax.axvline(1 / 3, color="tab:green", lw=0.8, ls="--", label="target on the koala lift: 1/3")
     ax.set_xscale("log")
-    ax.set_xlabel("wall time of the default (L-BFGS) over Anderson's, cold to 1e-3, λ 1 (Anderson capped at 2,000 "
-                  "iterations)")
+    ax.set_xlabel("the default's (L-BFGS) wall time / Anderson's, cold to 1e-3, λ 1\n"
+                  "(Anderson stopped at 2,000 iterations where it does not converge)")
     ax.legend(loc="lower right")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
