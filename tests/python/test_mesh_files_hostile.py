@@ -58,13 +58,18 @@ def test_a_byte_order_mark_is_written_back(tmp_path, ext):
 
 
 CHILD = r"""
-import json, resource, sys, time
+import json, os, sys, time
 limit = int(sys.argv[1])
-resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+if sys.platform != "win32":   # Windows has no RLIMIT_AS: there only the outcomes are checked
+    import resource
+    resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
 from edgedeform.mesh_files import MeshFormatError, read_mesh
 
 def peak_resident():
-    # VmHWM, this process's own high-water mark (ru_maxrss keeps the parent's across exec)
+    # VmHWM, this process's own high-water mark (ru_maxrss keeps the parent's across exec);
+    # None where there is no /proc (Windows, macOS)
+    if not os.path.exists("/proc/self/status"):
+        return None
     with open("/proc/self/status") as fh:
         return next(int(l.split()[1]) * 1024 for l in fh if l.startswith("VmHWM:"))
 
@@ -81,7 +86,7 @@ for path in sys.argv[2:]:
         outcome = type(exc).__name__
     report[path] = [outcome, time.perf_counter() - t0]
 peak = peak_resident()
-print(json.dumps({"files": report, "peak_above_interpreter": peak - base}))
+print(json.dumps({"files": report, "peak_above_interpreter": None if base is None else peak - base}))
 """
 
 
@@ -104,7 +109,8 @@ def test_hostile_files_refused_in_512_mb_within_100_mb(tmp_path):
     report = refuse_under_limit(tmp_path)
     outcomes = {Path(p).stem: o for p, (o, _) in report["files"].items()}
     assert outcomes == {name: "refused" for name in list(HOSTILE) + list(LARGE)}
-    assert report["peak_above_interpreter"] <= PEAK_ABOVE_INTERPRETER, report
+    if sys.platform.startswith("linux"):   # the limit and the peak are Linux's to measure
+        assert report["peak_above_interpreter"] <= PEAK_ABOVE_INTERPRETER, report
 
 
 @pytest.mark.timing
