@@ -15,11 +15,6 @@ import sys
 import bpy
 
 
-def at_least(major, minor=0):
-    """True when this Blender is version major.minor or newer."""
-    return bpy.app.version[:2] >= (major, minor)
-
-
 def repair_selection_attributes(mesh):
     """Drop a selection attribute stored with the wrong type, so mode switches cannot crash.
 

@@ -9,7 +9,6 @@ transforms are read as attributes. This module alone reads or writes the cache.
 
 import dataclasses
 import enum
-import hashlib
 import itertools
 import time
 from dataclasses import dataclass
@@ -409,18 +408,6 @@ _bindings = {}
 _systems = itertools.count(1)   # Binding.system: unique over the session's Bindings
 
 
-def _digest(*arrays):
-    h = hashlib.blake2b(digest_size=16)
-    for a in arrays:
-        if a is None:
-            h.update(b"none")
-        else:
-            a = np.ascontiguousarray(a)
-            h.update(str((a.dtype.str, a.shape)).encode())
-            h.update(a.tobytes())
-    return h.hexdigest()
-
-
 def _region(roi, roi_radius, roi_connected, roi_from=None):
     """set_constraints' region arguments: a list of vertices or a radius (the core refuses
     both at once), measured from roi_from (None: every handle)."""
@@ -450,7 +437,7 @@ class Binding:
         self.digest = digest
         self.X = X                  # rest positions (n,3) float64, object space
         self.F = F                  # loop triangles (m,3) int64
-        self.rest_key = _digest(X)
+        self.rest_key = mesh_io.array_digest(X)
         self._bind_ms = 0.0
         self._deformer = None
         self._domain = None
@@ -527,7 +514,7 @@ class Binding:
         if self._deformer is None or self._domain != inputs.domain:
             self.build(ed, inputs.domain)
         t0, factored = time.perf_counter(), False
-        ckey = (_digest(inputs.handles, inputs.static, inputs.roi), inputs.roi_radius,
+        ckey = (mesh_io.array_digest(inputs.handles, inputs.static, inputs.roi), inputs.roi_radius,
                 inputs.roi_connected)
         # No handles (Grab Deform on a mesh without any: its selection is the handle, set
         # by hold_grab next): there are no settings' constraints to set.
@@ -542,7 +529,7 @@ class Binding:
             self._constraints, self._constraint_key = Constraints.SETTINGS, ckey
             self._cold_start_due = True
         lam = inputs.stiffness
-        skey = ("f", float(lam)) if np.isscalar(lam) else ("a", _digest(lam))
+        skey = ("f", float(lam)) if np.isscalar(lam) else ("a", mesh_io.array_digest(lam))
         if skey != self._stiffness_key:
             factored = True
             self._stiffness_key = None
@@ -601,4 +588,4 @@ def cached_binding(mesh_pointer):
 
 
 def rest_key(X):
-    return _digest(X)
+    return mesh_io.array_digest(X)

@@ -159,11 +159,6 @@ def deform(ob, warm=False, reuse_inputs=False, iterations=None):
 
 # ------------------------------------------------------------------ bind, apply, unbind
 
-def bind(ob):
-    """Bind in one go (see bind_steps)."""
-    return _to_end(bind_steps(ob))
-
-
 def bind_steps(ob):
     """The current base mesh and controller transforms become the rest. A generator
     yielding (fraction, text) before each long stage (reading, building the graph,

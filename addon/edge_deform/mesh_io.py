@@ -75,12 +75,17 @@ def topology_digest(mesh):
     return h.hexdigest()
 
 
-def array_digest(a):
-    """Hash of an array's exact bytes (float32 positions: detects any edit)."""
-    a = np.ascontiguousarray(a)
+def array_digest(*arrays):
+    """Hash of the arrays' exact bytes, types and shapes (float32 positions: detects any
+    edit); None hashes as a word of its own."""
     h = hashlib.blake2b(digest_size=16)
-    h.update(str((a.dtype.str, a.shape)).encode())
-    h.update(a.tobytes())
+    for a in arrays:
+        if a is None:
+            h.update(b"none")
+            continue
+        a = np.ascontiguousarray(a)
+        h.update(str((a.dtype.str, a.shape)).encode())
+        h.update(a.tobytes())
     return h.hexdigest()
 
 
@@ -250,17 +255,6 @@ def assign_group(ob, name, indices, weight=1.0, replace_all=False):
     if idx.size:
         vg.add(idx.tolist(), float(weight), 'REPLACE')
     return vg
-
-
-def evaluated_positions(ob, depsgraph=None):
-    """Positions as displayed (shape keys and modifiers applied), float64 (n,3)."""
-    depsgraph = depsgraph or bpy.context.evaluated_depsgraph_get()
-    evaluated = ob.evaluated_get(depsgraph)
-    mesh = evaluated.to_mesh()
-    try:
-        return read_positions(mesh)
-    finally:
-        evaluated.to_mesh_clear()
 
 
 # ------------------------------------------------------------------ checks before a write

@@ -150,7 +150,6 @@ GROW = {'PAGE_UP', 'WHEELDOWNMOUSE'}
 SHRINK = {'PAGE_DOWN', 'WHEELUPMOUSE'}
 SMALLEST = 1e-6     # the property's minimum (Blender's T_PROP_SIZE_MIN)
 KEYS = "Wheel/PgUp/PgDn: radius · O: proportional · Alt+O: connected"
-SHORT_KEYS = "Wheel/PgUp/PgDn, O"   # (Grab's header; its status bar lists them in full)
 
 
 def size_key(event):

@@ -129,9 +129,8 @@ def grab_next(state, event):
 #
 # "Settled" needs a claim made in a call that asked for the check: a tick whose targets stand
 # still asks the solver to check a convergence claim against J_G's slowest mode first (the
-# core's verify_claims, for the plain and Anderson methods: without it Live called the 50k
-# koala settled 4.7e-3 of its size away, docs/decisions/0025; Newton's claim is its own
-# tightly solved last step). A tick whose targets move does not ask (the check costs about
+# core's verify_claims, for every method: without it Live called the 50k koala settled
+# 4.7e-3 of its size away, docs/decisions/0025). A tick whose targets move does not ask (the check costs about
 # 30 iterations: a drag would stutter), so its claim stays "settling…" until the next still
 # tick has asked. A claim after no iteration at all (nothing free to move) is exact.
 
@@ -193,7 +192,6 @@ class Settle:
     def changed(self):
         """The targets or the settings changed: a new settle starts."""
         self.iterations = 0          # since the change
-        self.solve_ms = 0.0          # solver time since the change
         self.started = None          # when the first tick after the change began
         self.waited_ms = 0.0         # wall time from that tick to the last result
         self.result = None
@@ -257,7 +255,6 @@ class Settle:
                 self.ms_per_iteration = max(iterating, 0.0) / max(1, int(result.iterations))
             spent += ms
             self.iterations += int(result.iterations)
-            self.solve_ms += ms
             self.result = result
             self.check_requested = check or int(result.iterations) == 0
             if self.at_rest or result.iterations < n or is_settled(result):

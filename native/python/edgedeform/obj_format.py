@@ -65,7 +65,6 @@ def read(text):
     v_lines, v_extra, coords, vn_lines, normals = [], [], [], [], []
     sizes, corners, corner_normals = [], [], []
     has = set()
-    n_vt = 0
     for line_no, (line, _) in enumerate(iter_lines(text)):
         tokens = line.split("#", 1)[0].split()
         if not tokens:
@@ -83,7 +82,6 @@ def read(text):
             normals.append([parse_number(t, float, line_no, "a normal's component") for t in tokens[1:4]])
             vn_lines.append(line_no)
         elif key == "vt":
-            n_vt += 1
             has.add("texture coordinates (vt)")
         elif key == "f":
             if len(tokens) < 4:

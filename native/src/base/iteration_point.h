@@ -1,4 +1,4 @@
-// The iterate a strategy (plain/Anderson, Newton) continues from call to call: the free
+// The iterate a strategy (plain/Anderson, L-BFGS) continues from call to call: the free
 // positions, their energy, and whether the local fit the solve holds is theirs. Owned by
 // IterationState (iteration_state.h); the strategies move it, the Deformer's transitions
 // decide when it may be continued.

@@ -78,7 +78,6 @@ class Deformer {
   Eigen::VectorXd node_lambda() const;
   // Whether the whole graph was built (tests: a region's solve must not need it).
   bool whole_graph_built() const;
-  const Eigen::VectorXd& vertex_lambda() const { return vertex_lambda_; }
   int analyses() const { return factors_.analyses(); }
   int orderings() const { return factors_.orderings(); }
   int factorizations() const { return factors_.factorizations(); }

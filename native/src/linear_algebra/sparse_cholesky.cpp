@@ -180,18 +180,6 @@ double SparseCholesky::factor_nonzeros() const { return impl_->factor ? impl_->c
 bool SparseCholesky::solves_in_parallel() const { return impl_->factored && impl_->split.parallel(); }
 const char* SparseCholesky::backend() { return "cholmod-supernodal"; }
 
-std::vector<int> SparseCholesky::fill_reducing_order(const SparseMatrix& pattern) {
-  const SerialOpenMP serial;
-  Impl m;
-  cholmod_sparse view = Impl::view(pattern);
-  cholmod_factor* symbolic = cholmod_analyze(&view, &m.common);
-  if (!symbolic) throw FactorizationError("CHOLMOD could not order the pattern (status " + std::to_string(m.common.status) + ")");
-  const int* perm = static_cast<const int*>(symbolic->Perm);
-  std::vector<int> order(perm, perm + symbolic->n);
-  cholmod_free_factor(&symbolic, &m.common);
-  return order;
-}
-
 #else  // Eigen fallback
 
 struct SparseCholesky::Impl {
@@ -246,7 +234,6 @@ double SparseCholesky::factor_nonzeros() const {
 }
 bool SparseCholesky::solves_in_parallel() const { return false; }
 const char* SparseCholesky::backend() { return "eigen-simplicial-ldlt"; }
-std::vector<int> SparseCholesky::fill_reducing_order(const SparseMatrix&) { return {}; }
 
 #endif
 

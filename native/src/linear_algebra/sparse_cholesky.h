@@ -53,10 +53,6 @@ class SparseCholesky {
   // sums either way. Always false in the Eigen fallback.
   bool solves_in_parallel() const;
   static const char* backend();
-  // A fill-reducing order of a symmetric pattern (its lower triangle is read), as factorize()
-  // would choose with Ordering::LeastFill, without factoring (order[k] = the column eliminated
-  // k-th); empty in the Eigen fallback, which orders by itself.
-  static std::vector<int> fill_reducing_order(const SparseMatrix& pattern);
 
  private:
   void factorize(const SparseMatrix& A, const std::vector<int>& order, Ordering ordering);

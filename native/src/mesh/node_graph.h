@@ -29,7 +29,6 @@ struct NodeGraph {
   std::vector<int> adjacency;
   std::vector<double> adjacency_weights;
 
-  int vertices_per_node() const { return domain == Domain::Edge ? 2 : 1; }
   // Node positions p = P x.
   RowMatrixX3d node_positions(const RowMatrixX3d& X) const;
   // Row i of P x alone.

@@ -22,7 +22,6 @@ class AndersonAccelerator {
   bool step(const Eigen::Ref<const Eigen::VectorXd>& x, const Eigen::Ref<const Eigen::VectorXd>& g,
             Eigen::Ref<Eigen::VectorXd> out);
 
-  Eigen::Index dimension() const { return last_g_.size(); }
   int window() const { return static_cast<int>(dF_.cols()); }
   int stored() const { return stored_; }
 

@@ -39,8 +39,12 @@ double largest_ritz_modulus(const std::function<void(const Eigen::MatrixXd&, Eig
   return rho;
 }
 
-double largest_jacobian_modulus(FixedPointProblem& problem, const LocalFit& fit, const Eigen::MatrixXd& residual,
-                                int steps) {
+namespace {
+
+// rho at free positions y with fit = fit(y) (the problem's last local_fit was at y),
+// Krylov space started from `residual` (G(y) - y). Deterministic; asks the problem's
+// interrupt between products.
+double largest_jacobian_modulus(FixedPointProblem& problem, const LocalFit& fit, const Eigen::MatrixXd& residual) {
   const std::unique_ptr<FixedPointLinearization> lin = problem.linearize(fit);
   Eigen::MatrixXd d_rhs;
   const auto apply_J = [&](const Eigen::MatrixXd& q, Eigen::MatrixXd& out) {
@@ -48,8 +52,10 @@ double largest_jacobian_modulus(FixedPointProblem& problem, const LocalFit& fit,
     lin->rhs_derivative(q, d_rhs);
     problem.solve_A(d_rhs, out);  // J_G q = A^-1 D q
   };
-  return largest_ritz_modulus(apply_J, residual, steps);
+  return largest_ritz_modulus(apply_J, residual, kClaimCheckSteps);
 }
+
+}  // namespace
 
 double checked_distance(FixedPointProblem& problem, ConvergenceMonitor& monitor, const LocalFit& fit,
                         const Eigen::MatrixXd& y, const Eigen::MatrixXd& g, double r, bool map_pair,

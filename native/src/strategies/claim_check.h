@@ -24,16 +24,11 @@ constexpr int kClaimCheckSteps = 30;
 double largest_ritz_modulus(const std::function<void(const Eigen::MatrixXd&, Eigen::MatrixXd&)>& apply,
                             const Eigen::MatrixXd& start, int steps);
 
-// rho at free positions y with fit = fit(y) (the problem's last local_fit was at y),
-// Krylov space started from `residual` (G(y) - y). 0 when the space is exhausted at once.
-// Deterministic; asks the problem's interrupt between products.
-double largest_jacobian_modulus(FixedPointProblem& problem, const LocalFit& fit, const Eigen::MatrixXd& residual,
-                                int steps = kClaimCheckSteps);
-
 // What every strategy asks after its global step g = G(y) (residual r = |g - y| / diag):
 // the estimated distance of g to the fixed point, infinite unless (y, g) is a map pair (fit
 // = fit(y)). With `verify_claims`, an estimate below `tolerance` is checked first (the rate
-// raised to the Arnoldi modulus; result.claim_checks, refused_claims counted).
+// raised to the modulus of kClaimCheckSteps Arnoldi steps on J_G at y, started
+// from g - y; result.claim_checks, refused_claims counted).
 double checked_distance(FixedPointProblem& problem, ConvergenceMonitor& monitor, const LocalFit& fit,
                         const Eigen::MatrixXd& y, const Eigen::MatrixXd& g, double r, bool map_pair,
                         bool verify_claims, double tolerance, SolveResult& result);

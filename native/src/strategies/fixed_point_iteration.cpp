@@ -59,16 +59,8 @@ void plain_anderson_solve(FixedPointProblem& problem, const PlainAndersonSetting
     double r = 0.0;
     if (!recorded_global_step(problem, fit, point, settings.diag, m.rhs, m.g, r, result)) return;
     const bool map_pair = point.fitted;  // g = G(y)
-    m.monitor.add(y, m.g, map_pair);
-    result.distance_estimate = map_pair ? m.monitor.distance(r) : std::numeric_limits<double>::infinity();
-
-    if (settings.verify_claims && result.distance_estimate < settings.tolerance &&
-        r > ConvergenceMonitor::kRoundoff) {  // a second opinion on the rate (claim_check.h)
-      ++result.claim_checks;
-      m.monitor.raise_rate(largest_jacobian_modulus(problem, fit, m.g - y));
-      result.distance_estimate = m.monitor.distance(r);
-      if (!(result.distance_estimate < settings.tolerance)) ++result.refused_claims;
-    }
+    result.distance_estimate = checked_distance(problem, m.monitor, fit, y, m.g, r, map_pair,
+                                                settings.verify_claims, settings.tolerance, result);
     if (result.distance_estimate < settings.tolerance) {  // done: the result is the plain step
       y.swap(m.g);
       point.energy = problem.local_fit(y, fit);

@@ -22,11 +22,6 @@ class FixedPointLinearization {
   // out = K dx = A dx - D dx.
   void k_product(const Eigen::MatrixXd& dx, Eigen::MatrixXd& out) const;
 
-  const ConstrainedSystem& system() const { return system_; }
-  const AssembledSystem& assembled() const { return assembled_; }
-  const LocalFit& fit() const { return fit_; }
-  const FitLinearization& fit_linearization() const { return linearization_; }
-
  private:
   const ConstrainedSystem& system_;
   const AssembledSystem& assembled_;

@@ -52,7 +52,7 @@ class RotationOperator {
   // change dR_t = [omega_t]x R_t) and ds_t (#terms) give, per row,
   //     dy_r = sum_blocks omega_t x (R_t g) + ds_t R_t k,
   //     g = (lambda_t + phi_t s_t) h_R + (1 - lambda_t - phi_t) s_t h_T,  k = phi_t h_R + (1 - lambda_t - phi_t) h_T
-  // (local_fit_derivative.h). The Newton operator's d(rhs)/dx, one pass over the blocks.
+  // (local_fit_derivative.h): d(rhs)/dx, J_G's products (the claim check), one pass over the blocks.
   void apply_derivative(const std::vector<Eigen::Matrix3d>& rotation, const Eigen::VectorXd& scale,
                         const RowMatrixX3d& omega, const Eigen::VectorXd& dscale, Eigen::MatrixXd& dy) const;
 
@@ -67,9 +67,6 @@ class RotationOperator {
     k = Eigen::Vector3d(share.similar * h[0] + share.smooth * h[3], share.similar * h[1] + share.smooth * h[4],
                         share.similar * h[2] + share.smooth * h[5]);
   }
-  // Blocks of row r: offsets()[r] .. offsets()[r+1), each with its term.
-  const std::vector<int>& offsets() const { return offsets_; }
-  int block_term(int block) const { return term_[static_cast<size_t>(block)]; }
 
   int rows() const { return static_cast<int>(offsets_.size()) - 1; }
   int blocks() const { return static_cast<int>(term_.size()); }
