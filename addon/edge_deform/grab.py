@@ -58,11 +58,10 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
     def poll(cls, context):
         return (context.region_data is not None and context.window is not None
                 and context.area is not None and context.area.type == 'VIEW_3D'
-                and poll_mesh(cls, context, ('EDIT',)))
+                and poll_mesh(cls, context, ('EDIT',)) and modal.none_running(cls))
 
     @guarded
     def invoke(self, context, event):
-        self.refuse_if_running()
         ob = context.active_object
         moving = np.flatnonzero(mesh_io.read_selection(ob))
         solver = None

@@ -72,11 +72,11 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
     @classmethod
     def poll(cls, context):
         return context.window is not None and poll_mesh(
-            cls, context, ('OBJECT',), need_handles=True, follow_controller=True)
+            cls, context, ('OBJECT',), need_handles=True, follow_controller=True) \
+            and modal.none_running(cls)
 
     @guarded
     def invoke(self, context, event):
-        self.refuse_if_running()
         ob = deformed_object(context)
         s = ob.edge_deform
         self.solver = lifecycle.prepare(ob)          # refuses before anything changes

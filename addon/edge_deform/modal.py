@@ -28,14 +28,6 @@ class ModalTool:
     and noticing that undo or a deletion replaced the data they hold (then they end
     cleanly instead of touching a removed object)."""
 
-    @staticmethod
-    def refuse_if_running():
-        """Before anything changes: a second session is refused, the first goes on."""
-        for tool in _running.values():
-            raise mesh_io.EdgeDeformError(
-                "%s is already running on '%s': confirm it (Enter) or cancel it (Esc) "
-                "first" % (tool.bl_label, tool.object_name))
-
     def start_modal(self, context, ob):
         self.ob = ob
         self.snapshot = Snapshot(ob)
@@ -120,6 +112,19 @@ def poll(cls, context, on_controller=True):
                      follow_controller=on_controller):
         return False
     return idle(cls, deformed_object(context) if on_controller else context.active_object)
+
+
+def none_running(cls):
+    """For Live's and Grab's poll: one tool at a time, so their buttons are greyed while
+    one runs (on any mesh), the tooltip saying how to end it; a click that opened an error
+    report instead swallowed the next Esc."""
+    tool = running_tool()
+    if tool is None:
+        return True
+    if hasattr(cls, "poll_message_set"):
+        cls.poll_message_set("%s is already running on '%s': press Enter over the view to "
+                             "keep its shape or Esc to cancel" % (tool.bl_label, tool.object_name))
+    return False
 
 
 def idle(cls, ob):
