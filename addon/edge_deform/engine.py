@@ -261,12 +261,25 @@ USER_ERRORS = (mesh_io.EdgeDeformError, ValueError, IndexError, ImportError, Run
 WHERE_TO_CHANGE = "the Edge Deform panel, Static and Region"
 
 
+# The scene's length unit, as its fields write it (Blender's unit tables, unit.cc):
+# metres per unit and the suffix. 'ADAPTIVE' picks a unit per value, as to_string does.
+LENGTH_UNITS = {'KILOMETERS': (1e3, " km"), 'METERS': (1.0, " m"), 'CENTIMETERS': (1e-2, " cm"),
+                'MILLIMETERS': (1e-3, " mm"), 'MICROMETERS': (1e-6, " µm"),
+                'MILES': (1609.344, " mi"), 'FEET': (0.3048, "'"), 'INCHES': (0.0254, '"'),
+                'THOU': (2.54e-5, " thou")}
+
+
 def length(value):
-    """A length in the scene's units, as Blender's fields write it ("0.35 m")."""
+    """A length in the scene's units, as Blender's fields write it: "0.3 m" where the panel's
+    Radius field says 0.3 m (to_string alone said "30 cm" beside it)."""
     units = bpy.context.scene.unit_settings
     try:
-        return bpy.utils.units.to_string(units.system, 'LENGTH',
-                                         value * units.scale_length, precision=3)
+        metres = value * units.scale_length
+        if units.system != 'NONE' and units.length_unit in LENGTH_UNITS:
+            per_unit, suffix = LENGTH_UNITS[units.length_unit]
+            amount = metres / per_unit
+            return ("%.0f" if abs(amount) >= 1e3 else "%.3g") % amount + suffix
+        return bpy.utils.units.to_string(units.system, 'LENGTH', metres, precision=3).strip()
     except (AttributeError, TypeError, ValueError):
         return "%.3g" % value
 

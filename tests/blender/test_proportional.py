@@ -90,6 +90,31 @@ def test_first_radius_fits_the_object():
     assert abs(radius - 0.25 * float(np.ptp(V, axis=0).max())) < 1e-6, radius
 
 
+def test_the_radius_reads_as_its_field_does():
+    """The radius in the header and over the view is written in the scene's length unit, as
+    the panel's Radius field writes it ("0.3 m" beside "0.3 m", not "30 cm"); an adaptive
+    unit picks one per value, as Blender's own text does."""
+    from edge_deform import engine
+    units = bpy.context.scene.unit_settings
+    saved = (units.system, units.length_unit, units.scale_length)
+    try:
+        units.system, units.length_unit, units.scale_length = 'METRIC', 'METERS', 1.0
+        assert [engine.length(v) for v in (0.3, 2.3184, 50.0, 1234.4)] == [
+            "0.3 m", "2.32 m", "50 m", "1234 m"]
+        units.length_unit = 'CENTIMETERS'
+        assert engine.length(0.3) == "30 cm"
+        units.scale_length = 0.01          # one Blender unit is a centimetre
+        assert engine.length(0.3) == "0.3 cm"
+        units.system, units.length_unit, units.scale_length = 'IMPERIAL', 'FEET', 1.0
+        assert engine.length(0.6096) == "2'"
+        units.system, units.length_unit = 'METRIC', 'ADAPTIVE'
+        assert engine.length(0.3).replace(" ", "") == "30cm", engine.length(0.3)
+        units.system = 'NONE'
+        assert engine.length(0.3) == "0.3", engine.length(0.3)
+    finally:
+        units.system, units.length_unit, units.scale_length = saved
+
+
 def test_radius_reaches_the_core():
     ob, V, F, handle, ctrl, width = plane()
     r = ob.edge_deform.proportional_radius
@@ -260,7 +285,8 @@ def test_frame_change_and_playback_read_the_radius():
 
 
 if __name__ == "__main__":
-    run([test_defaults, test_first_radius_fits_the_object, test_radius_reaches_the_core,
+    run([test_defaults, test_first_radius_fits_the_object, test_the_radius_reads_as_its_field_does,
+         test_radius_reaches_the_core,
          test_radius_overrides_the_region_group, test_connected_only, test_the_region_is_blenders_proportional_editing,
          test_radius_that_frees_nothing_is_refused,
          test_static_covering_the_region_is_refused,
