@@ -33,7 +33,8 @@ KINDS = {"full": "scripts/test.sh (what .ci/run runs)", "quick": "scripts/test.s
          "demo": "scripts/demo.sh", "custom": "scripts/test.sh with ctest arguments"}
 KEEP = 5                    # newest records kept in docs/ci_runs/; the older ones are in git
 FEATURED = ("full", "quick")  # kinds whose newest run the page details; kept even when older
-BUDGETS = ("`.ci/run`: at most 30 minutes on this 2-core machine (CI stops at 90); "
+BUDGETS = ("`.ci/run`: at most 60 minutes on this 2-core machine, the Windows checks under "
+           "wine included (CI stops at 90); "
            "`scripts/test.sh --quick` from a built tree: at most 3 minutes.")
 
 
