@@ -46,6 +46,10 @@ def view_region(context):
     return r, r.data
 
 
+NOTHING_HOLDS = ("Nothing holds the rest of the mesh (no Static, Region or other handle): it "
+                 "follows the drag as a whole. Set Static, or press O for a radius, to keep it")
+
+
 class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
     """Drag the selected vertices; the mesh deforms around them. X/Y/Z: axis, O:
     proportional, Wheel/Page Up/Down: its radius, Enter/click: confirm, Esc/right click:
@@ -118,6 +122,11 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
         self.status_drawn = None    # the key hints Blender last drew in the status bar
         compat.status_bar(self.workspace, self.draw_status)
         self.show()
+        if not (inputs.static.size or pinned.size or inputs.roi is not None
+                or ob.edge_deform.proportional):
+            # The energy's minimum is then the whole mesh carried along, which surprised an
+            # artist used to G moving the selection only (the walk-through of 2026-12-05).
+            tell(self, 'INFO', NOTHING_HOLDS)
         return {'RUNNING_MODAL'}
 
     def draw_status(self, layout):

@@ -61,10 +61,24 @@ def s2_grab_without_handles():
         tap('RET', at=center(0, 60))
         yield from until(lambda: running() is None and ob.mode == 'EDIT')
     assert not [m for m in told.messages if m[0] == 'ERROR'], told.messages
+    assert not told.has('INFO', "Nothing holds"), "Static holds the rest: no note"
     assert np.abs(shown[idx] - rest[idx]).max() > 0.01 * diagonal(ob), "the selection moved"
     assert np.abs(shown[static] - rest[static]).max() == 0.0, "static stays at rest"
     others = np.setdiff1d(np.arange(len(rest)), np.concatenate([idx, static]))
     assert np.abs(shown[others] - rest[others]).max() > 1e-3 * diagonal(ob), "the rest follows"
+
+    # Nothing static either: the whole mesh is carried along (the energy's minimum), and
+    # Grab says why once, as it starts (an artist expected G's "only the selection").
+    s.static_group = ""
+    tap('TAB', at=center())                     # (grab_from_the_panel tabs in again)
+    yield from until(lambda: ob.mode == 'OBJECT')
+    select_only(ob.data, idx)
+    with Told() as told:
+        yield from grab_from_the_panel(ob)
+        assert running() is not None, "Grab Deform did not start: %s" % told.messages
+        tap('ESC', at=center())
+        yield from until(lambda: running() is None and ob.mode == 'EDIT')
+    assert told.has('INFO', "Nothing holds the rest of the mesh"), told.messages
 
 
 def l1_grab_at_a_baked_frame_moves_nothing_before_the_pointer():
