@@ -62,7 +62,7 @@ class EDGE_DEFORM_OT_grab(ModalTool, bpy.types.Operator):
     def poll(cls, context):
         return (context.region_data is not None and context.window is not None
                 and context.area is not None and context.area.type == 'VIEW_3D'
-                and poll_mesh(cls, context, ('EDIT',)) and modal.none_running(cls))
+                and poll_mesh(cls, context, ('EDIT',)) and modal.idle(cls))
 
     @guarded
     def invoke(self, context, event):

@@ -73,7 +73,7 @@ class EDGE_DEFORM_OT_live(ModalTool, bpy.types.Operator):
     def poll(cls, context):
         return context.window is not None and poll_mesh(
             cls, context, ('OBJECT',), need_handles=True, follow_controller=True) \
-            and modal.none_running(cls)
+            and modal.idle(cls)
 
     @guarded
     def invoke(self, context, event):

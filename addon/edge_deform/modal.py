@@ -114,29 +114,19 @@ def poll(cls, context, on_controller=True):
     return idle(cls, deformed_object(context) if on_controller else context.active_object)
 
 
-def none_running(cls):
-    """For Live's and Grab's poll: one tool at a time, so their buttons are greyed while
-    one runs (on any mesh), the tooltip saying how to end it; a click that opened an error
-    report instead swallowed the next Esc."""
-    tool = running_tool()
+def idle(cls, ob=None):
+    """For an operator's poll: False while a modal tool runs on `ob` (on any mesh when `ob`
+    is None: Live and Grab, one tool at a time; an enabled button whose click was refused
+    opened an error report that swallowed the next Esc), with the reason as the poll
+    message (the greyed button's tooltip; a script's error)."""
+    tool = running_tool(ob)
     if tool is None:
         return True
+    where = ("is running on '%s' and deforms it already" if ob is not None
+             else "is already running on '%s'") % tool.object_name
     if hasattr(cls, "poll_message_set"):
-        cls.poll_message_set("%s is already running on '%s': press Enter over the view to "
-                             "keep its shape or Esc to cancel" % (tool.bl_label, tool.object_name))
-    return False
-
-
-def idle(cls, ob):
-    """For an operator's poll: False while a modal tool runs on `ob`, with the reason as
-    the poll message (the greyed button's tooltip; a script's error)."""
-    tool = running_tool(ob) if ob is not None else None
-    if tool is None:
-        return True
-    if hasattr(cls, "poll_message_set"):
-        cls.poll_message_set("%s is running on '%s' and deforms it already: press Enter "
-                             "over the view to keep its shape or Esc to cancel"
-                             % (tool.bl_label, ob.name))
+        cls.poll_message_set("%s %s: press Enter over the view to keep its shape or Esc to "
+                             "cancel" % (tool.bl_label, where))
     return False
 
 
