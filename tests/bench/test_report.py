@@ -7,7 +7,7 @@ import shutil
 import subprocess
 import sys
 
-from _bench import BENCH, ROOT
+from _bench import BENCH
 
 sys.path.insert(0, str(BENCH))
 import report  # noqa: E402
@@ -42,7 +42,3 @@ def test_a_missing_result_is_said_and_a_stale_page_is_caught(tmp_path):
     assert "Not measured: `bench/results/soft_modes_d3.json` is missing" in text
     assert report.main(["--results", str(BENCH / "results"), "--docs", str(docs), "--check"]) == 1
 
-
-def test_no_docs_page_is_longer_than_400_lines():
-    for page in (ROOT / "docs").rglob("*.md"):
-        assert page.read_text().count("\n") <= 400, page
