@@ -127,10 +127,18 @@ def readme_minutes():
     return {"full": int(m.group(1)), "quick": int(m.group(2))}
 
 
+def newest_with_windows_checks(runs):
+    """The newest recorded full run that ran the `windows` label, as `.ci/run` does: the
+    README's full time is "with the Windows checks under wine" (a Debian 13 root, or a
+    run without wine, records a full run that is not what CI runs)."""
+    return next(r for r in runs if r["run"] == "full"
+                and any(label == "windows" for label, *_ in r.get("labels") or []))
+
+
 def test_the_readme_states_the_recorded_times():
-    """The README's rounded times are the newest recorded full and quick runs' (within a
-    minute), the ones docs/ci_times.md details."""
+    """The README's rounded times are the newest recorded .ci/run's (the full run with the
+    Windows checks) and the newest quick run's, within a minute."""
     runs = ci_times.load_runs(ROOT / "docs" / "ci_runs")
+    newest = {"full": newest_with_windows_checks(runs), "quick": ci_times.newest_measured(runs, "quick")}
     for kind, minutes in readme_minutes().items():
-        newest = ci_times.newest_measured(runs, kind)
-        assert abs(newest["total_s"] / 60 - minutes) < 1, (kind, minutes, newest["file"])
+        assert abs(newest[kind]["total_s"] / 60 - minutes) < 1, (kind, minutes, newest[kind]["file"])
